@@ -48,3 +48,23 @@ __kernel void intersect_any_batch(__global const Ray* rays, int count,
     stats[i] = st;
 #endif
 }
+
+// Wavefront entry points: the queue length is read from the device (queue_count[0]), so
+// the host launches at capacity and never reads counts back (pbrt-v4's ForAllQueued).
+__kernel void intersect_closest(__global const Ray* rays, __global const int* queue_count,
+                                __global const BvhNode* nodes, __global const BvhLinks* links,
+                                __global const Triangle* tris, __global const int* prim_ids,
+                                __global Hit* hits) {
+    int i = wp_global_id();
+    if (i >= queue_count[0]) return;
+    hits[i] = wp_trace_closest(rays[i], nodes, links, tris, prim_ids, 0);
+}
+
+__kernel void intersect_any(__global const Ray* rays, __global const int* queue_count,
+                            __global const BvhNode* nodes, __global const BvhLinks* links,
+                            __global const Triangle* tris, __global const int* prim_ids,
+                            __global Hit* hits) {
+    int i = wp_global_id();
+    if (i >= queue_count[0]) return;
+    hits[i] = wp_trace_any(rays[i], nodes, links, tris, prim_ids, 0);
+}
