@@ -1,6 +1,9 @@
 #include "support.h"
 
 #include <cstdlib>
+#include <thread>
+
+#include "shared/triangle.h"
 
 namespace wp::test {
 
@@ -10,6 +13,78 @@ ocl::Device& device() {
         return ocl::Device::open(sel ? sel : "");
     }();
     return dev;
+}
+
+glm::vec3 Rng::unit_vector() {
+    float z = uniform(-1.0f, 1.0f);
+    float phi = uniform(0.0f, 6.2831853f);
+    float r = std::sqrt(std::max(0.0f, 1.0f - z * z));
+    return {r * std::cos(phi), r * std::sin(phi), z};
+}
+
+Ray make_ray(glm::vec3 o, glm::vec3 d, float tmin, float tmax) {
+    return Ray{{o.x, o.y, o.z, tmin}, {d.x, d.y, d.z, tmax}};
+}
+
+std::vector<Ray> random_rays(std::size_t n, std::uint64_t seed, glm::vec3 lo, glm::vec3 hi) {
+    Rng rng(seed);
+    std::vector<Ray> rays(n);
+    glm::vec3 c = 0.5f * (lo + hi);
+    float radius = 0.75f * glm::length(hi - lo) + 1e-3f;
+    for (std::size_t i = 0; i < n; ++i) {
+        glm::vec3 inside{rng.uniform(lo.x, hi.x), rng.uniform(lo.y, hi.y), rng.uniform(lo.z, hi.z)};
+        glm::vec3 o, d;
+        if (i % 2 == 0) {
+            o = inside;
+            d = rng.unit_vector();
+        } else {
+            o = c + radius * rng.unit_vector();
+            d = inside - o;
+        }
+        if (i % 8 == 1 || i % 8 == 4) {
+            // Axis-parallel: zero one or two components, with either sign of zero.
+            int a = static_cast<int>(rng.next() % 3);
+            d[a] = (rng.next() & 1) ? 0.0f : -0.0f;
+            if (i % 8 == 4) d[(a + 1) % 3] = (rng.next() & 1) ? 0.0f : -0.0f;
+            if (glm::length(d) == 0.0f) d[(a + 2) % 3] = 1.0f;
+        }
+        rays[i] = make_ray(o, d);
+    }
+    return rays;
+}
+
+std::vector<Hit> brute_force(std::span<const glm::vec3> positions, std::span<const glm::uvec3> tris,
+                             const std::vector<Ray>& rays, bool any_hit) {
+    std::vector<Hit> hits(rays.size());
+    auto work = [&](std::size_t begin, std::size_t end) {
+        for (std::size_t r = begin; r < end; ++r) {
+            const Ray& ray = rays[r];
+            TriRay tr = wp_tri_ray(ray);
+            Hit h{ray.dir.w, -1, 0.0f, 0.0f};
+            for (std::size_t i = 0; i < tris.size(); ++i) {
+                auto v = [&](int k) {
+                    glm::vec3 p = positions[tris[i][k]];
+                    return float4{p.x, p.y, p.z, 0.0f};
+                };
+                float t, u, v2;
+                if (!wp_intersect_triangle(&tr, v(0), v(1), v(2), &t, &u, &v2)) continue;
+                if (t < h.t) {  // scene order: at equal t the earlier (smaller) index stays
+                    h = Hit{t, static_cast<int>(i), u, v2};
+                    if (any_hit) break;
+                }
+            }
+            hits[r] = h;
+        }
+    };
+    unsigned nt = std::max(1u, std::thread::hardware_concurrency());
+    std::vector<std::thread> threads;
+    std::size_t chunk = (rays.size() + nt - 1) / nt;
+    for (unsigned t = 0; t < nt; ++t) {
+        std::size_t b = t * chunk, e = std::min(rays.size(), b + chunk);
+        if (b < e) threads.emplace_back(work, b, e);
+    }
+    for (auto& t : threads) t.join();
+    return hits;
 }
 
 }  // namespace wp::test

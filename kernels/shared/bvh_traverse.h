@@ -25,6 +25,11 @@
 WP_NAMESPACE_BEGIN
 
 #define WP_BOX_FAR_SCALE 1.00000036f  // 1 + 2 * gamma(3), rounded up (Ize 2013)
+// Boxes are culled against the closest hit so far only when they start clearly behind it:
+// the triangle test's own rounding (a few ulps, more at grazing angles) must not decide
+// which of two nearly coincident hits (overlapping coplanar triangles) is visited, or the
+// winner would depend on the traversal order. 1 + 2^-14.
+#define WP_HIT_CULL_SCALE 1.00006104f
 
 // Per-ray constants of the box test.
 typedef struct BoxRay {
@@ -59,8 +64,11 @@ WP_FN int wp_intersect_node(const BoxRay* r, BvhNode n, float tmax, float* t0, f
     float4 tnear = max(max(min(tx, sx), min(ty, sy)), min(tz, sz));
     float4 tfar = min(min(max(tx, sx), max(ty, sy)), max(tz, sz));
     float near0 = max(tnear.x, r->tmin), near1 = max(tnear.y, r->tmin);
-    float far0 = min(tfar.x * WP_BOX_FAR_SCALE, tmax);
-    float far1 = min(tfar.y * WP_BOX_FAR_SCALE, tmax);
+    // The far bound (box exit or current closest t) is widened, so rounding in either
+    // never culls a box whose true entry lies before it.
+    float tcull = tmax * WP_HIT_CULL_SCALE;
+    float far0 = min(tfar.x * WP_BOX_FAR_SCALE, tcull);
+    float far1 = min(tfar.y * WP_BOX_FAR_SCALE, tcull);
     *t0 = near0;
     *t1 = near1;
     return (near0 <= far0 ? 1 : 0) | (near1 <= far1 ? 2 : 0);
@@ -213,7 +221,7 @@ WP_FN Hit wp_trace_closest_stack(Ray ray, WP_GLOBAL const BvhNode* nodes,
         next = -1;
         while (sp > 0) {
             --sp;
-            if (stack_t[sp] <= hit.t) {
+            if (stack_t[sp] <= hit.t * WP_HIT_CULL_SCALE) {
                 next = stack_ref[sp];
                 break;
             }

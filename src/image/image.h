@@ -3,11 +3,14 @@
 // Image holds linear RGB float pixels, row-major from the top-left, 3 floats per pixel.
 // Files: .exr is written as linear float RGB; .png (and .jpg) as 8-bit sRGB after clamping
 // to [0, 1] (no tone curve besides the sRGB transfer function). Writing is atomic: a
-// failed write leaves no file behind and an existing file untouched.
+// failed write leaves no file behind and an existing file untouched. Reading returns linear
+// values: 8-bit sRGB files (PNG, JPEG) are decoded with the exact sRGB transfer function.
+// Also here: the sRGB transfer function itself and a box filter for downsampling renders.
 #pragma once
 
 #include <filesystem>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace wp {
@@ -20,7 +23,9 @@ struct Image {
     Image() = default;
     Image(int w, int h) : width(w), height(h), rgb(static_cast<std::size_t>(w) * h * 3, 0.0f) {}
     float* pixel(int x, int y) { return &rgb[(static_cast<std::size_t>(y) * width + x) * 3]; }
-    const float* pixel(int x, int y) const { return &rgb[(static_cast<std::size_t>(y) * width + x) * 3]; }
+    const float* pixel(int x, int y) const {
+        return &rgb[(static_cast<std::size_t>(y) * width + x) * 3];
+    }
 };
 
 // Throws wp::Error naming the path when the extension is unknown, the folder is missing
@@ -31,7 +36,9 @@ void write_image(const std::filesystem::path& path, const Image& image);
 bool is_supported_image_path(const std::filesystem::path& path);
 
 // Reads any format OpenImageIO reads; returns the first three channels (grey is
-// replicated), converted to linear float as stored in the file (EXR: as is).
+// replicated, alpha dropped) as linear float: EXR values as stored, files OpenImageIO tags
+// as sRGB (PNG, JPEG) decoded with srgb_decode. Throws wp::Error naming a missing or
+// unreadable file.
 Image read_image(const std::filesystem::path& path);
 
 struct ErrorMetrics {
@@ -44,5 +51,21 @@ struct ErrorMetrics {
 
 // Compares image x with reference r; throws wp::Error when sizes differ.
 ErrorMetrics compare_images(const Image& x, const Image& r, double relmse_eps = 1e-2);
+
+// Writes a multi-layer linear float EXR, atomically. Each entry is a layer name and
+// w * h * 3 floats (row-major RGB); its channels are "<name>.R", "<name>.G", "<name>.B",
+// or plain "R", "G", "B" for an empty name. Throws wp::Error like write_image; the path
+// must end in .exr.
+void write_exr_layers(const std::filesystem::path& path, int w, int h,
+                      const std::vector<std::pair<std::string, const float*>>& rgb_layers);
+
+// The sRGB transfer function (IEC 61966-2-1): linear in [0, 1] to encoded in [0, 1],
+// 12.92 x below 0.0031308, else 1.055 x^(1/2.4) - 0.055. No clamping.
+double srgb_encode(double linear);
+// Its inverse: e / 12.92 up to 12.92 * 0.0031308, else ((e + 0.055) / 1.055)^2.4.
+double srgb_decode(double encoded);
+
+// Mean of factor x factor blocks; throws wp::Error unless factor >= 1 divides both sides.
+Image downsample_box(const Image& image, int factor);
 
 }  // namespace wp

@@ -1,0 +1,58 @@
+// device_bvh.h — a flattened BVH in device buffers, and batch tracing through it.
+//
+// DeviceBvh owns the four buffers the intersect kernels read (nodes, links, leaf-ordered
+// triangles, prim_ids). BatchTracer builds kernels/intersect.cl and traces host ray
+// arrays (tests, oracles) or device ray buffers (the benchmark) with one of the traversal
+// variants.
+#pragma once
+
+#include <CL/opencl.hpp>
+
+#include <string>
+#include <vector>
+
+#include "bvh/flatten.h"
+#include "cl/device.h"
+#include "cl/profiler.h"
+#include "cl/program.h"
+
+namespace wp::bvh {
+
+struct DeviceBvh {
+    ::cl::Buffer nodes, links, triangles, prim_ids;
+    int node_count = 0;
+    int triangle_count = 0;
+    std::size_t bytes = 0;
+
+    static DeviceBvh upload(const ocl::Device& dev, const FlatBvh& flat);
+    // Sets the four BVH arguments of an intersect kernel, starting at `first_arg`.
+    void set_args(::cl::Kernel& k, int first_arg) const;
+};
+
+enum class TraceVariant { Stackless, Stack, Any };
+const char* to_string(TraceVariant v);
+
+class BatchTracer {
+  public:
+    // stats: compile with -D WP_STATS (per-ray box/triangle test counts; slower).
+    BatchTracer(const ocl::Device& dev, bool stats = false, const std::string& extra_options = "");
+
+    // Traces host rays; returns one Hit per ray. With stats, fills per-ray counts.
+    std::vector<Hit> trace(const DeviceBvh& bvh, const std::vector<Ray>& rays, TraceVariant v,
+                           std::vector<TraceStats>* stats = nullptr);
+
+    // Enqueues a trace of `count` rays already on the device; returns its event.
+    ::cl::Event enqueue(const DeviceBvh& bvh, const ::cl::Buffer& rays, int count, const ::cl::Buffer& hits,
+                        TraceVariant v, const ::cl::Buffer* stats = nullptr, ocl::Profiler* profiler = nullptr);
+
+    const ocl::Program& program() const { return program_; }
+
+  private:
+    const ocl::Device& dev_;
+    bool stats_;
+    ocl::Program program_;
+    ::cl::Kernel closest_, stack_, any_;
+    ::cl::Buffer dummy_stats_;
+};
+
+}  // namespace wp::bvh

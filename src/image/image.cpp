@@ -1,0 +1,235 @@
+#include "image/image.h"
+
+#include <algorithm>
+#include <cctype>
+#include <cmath>
+#include <cstdint>
+#include <memory>
+#include <system_error>
+
+#include <OpenImageIO/imageio.h>
+#include <OpenImageIO/strutil.h>
+
+#include "util/atomic_file.h"
+#include "util/error.h"
+
+namespace wp {
+
+namespace fs = std::filesystem;
+
+namespace {
+
+enum class Format { exr, png, jpeg, unknown };
+
+Format format_of(const fs::path& path) {
+    std::string ext = path.extension().string();
+    std::transform(ext.begin(), ext.end(), ext.begin(),
+                   [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+    if (ext == ".exr") return Format::exr;
+    if (ext == ".png") return Format::png;
+    if (ext == ".jpg" || ext == ".jpeg") return Format::jpeg;
+    return Format::unknown;
+}
+
+std::size_t pixel_count(int w, int h) { return static_cast<std::size_t>(w) * h; }
+
+// Strips the trailing newline OIIO leaves on its messages.
+std::string trimmed(std::string s) {
+    while (!s.empty() && (s.back() == '\n' || s.back() == ' ')) s.pop_back();
+    return s.empty() ? std::string("unknown OpenImageIO error") : s;
+}
+
+// Opens an OIIO writer on `tmp` and writes `data` (of type `type`); `path` names the
+// destination in messages.
+void write_with_oiio(const fs::path& path, const fs::path& tmp, const OIIO::ImageSpec& spec,
+                     OIIO::TypeDesc type, const void* data) {
+    std::unique_ptr<OIIO::ImageOutput> out = OIIO::ImageOutput::create(tmp.string());
+    if (!out) fail("cannot write '{}': {}", path.string(), trimmed(OIIO::geterror()));
+    if (!out->open(tmp.string(), spec))
+        fail("cannot write '{}': {}", path.string(), trimmed(out->geterror()));
+    if (!out->write_image(type, data)) {
+        std::string why = trimmed(out->geterror());
+        out->close();
+        fail("cannot write '{}': {}", path.string(), why);
+    }
+    if (!out->close()) fail("cannot write '{}': {}", path.string(), trimmed(out->geterror()));
+}
+
+void check_size(const fs::path& path, int w, int h, std::size_t floats) {
+    if (w <= 0 || h <= 0) fail("cannot write '{}': image size {}x{} is empty", path.string(), w, h);
+    if (floats != pixel_count(w, h) * 3)
+        fail("cannot write '{}': {}x{} image holds {} floats, expected {}", path.string(), w, h,
+             floats, pixel_count(w, h) * 3);
+}
+
+// Linear float → 8-bit sRGB code: clamp to [0, 1] (NaN → 0), encode, round to nearest.
+std::uint8_t srgb_code(float linear) {
+    double x = std::isnan(linear) ? 0.0 : std::clamp(static_cast<double>(linear), 0.0, 1.0);
+    return static_cast<std::uint8_t>(std::floor(srgb_encode(x) * 255.0 + 0.5));
+}
+
+}  // namespace
+
+double srgb_encode(double linear) {
+    if (linear < 0.0031308) return 12.92 * linear;
+    return 1.055 * std::pow(linear, 1.0 / 2.4) - 0.055;
+}
+
+double srgb_decode(double encoded) {
+    if (encoded < 12.92 * 0.0031308) return encoded / 12.92;
+    return std::pow((encoded + 0.055) / 1.055, 2.4);
+}
+
+bool is_supported_image_path(const fs::path& path) { return format_of(path) != Format::unknown; }
+
+void write_image(const fs::path& path, const Image& image) {
+    Format format = format_of(path);
+    if (format == Format::unknown)
+        fail("cannot write '{}': unknown image extension '{}' (supported: .exr, .png, .jpg, .jpeg)",
+             path.string(), path.extension().string());
+    check_size(path, image.width, image.height, image.rgb.size());
+    // libjpeg ends the process (exit) on larger images instead of reporting an error.
+    if (format == Format::jpeg && (image.width > 65500 || image.height > 65500))
+        fail("cannot write '{}': {}x{} is larger than JPEG allows (65500 pixels a side)",
+             path.string(), image.width, image.height);
+
+    write_atomically(path, [&](const fs::path& tmp) {
+        if (format == Format::exr) {
+            OIIO::ImageSpec spec(image.width, image.height, 3, OIIO::TypeDesc::FLOAT);
+            spec.attribute("oiio:ColorSpace", "Linear");
+            spec.attribute("compression", "zip");
+            write_with_oiio(path, tmp, spec, OIIO::TypeDesc::FLOAT, image.rgb.data());
+            return;
+        }
+        std::vector<std::uint8_t> codes(image.rgb.size());
+        std::transform(image.rgb.begin(), image.rgb.end(), codes.begin(), srgb_code);
+        OIIO::ImageSpec spec(image.width, image.height, 3, OIIO::TypeDesc::UINT8);
+        spec.attribute("oiio:ColorSpace", "sRGB");
+        if (format == Format::jpeg) spec.attribute("Compression", "jpeg:95");
+        write_with_oiio(path, tmp, spec, OIIO::TypeDesc::UINT8, codes.data());
+    });
+}
+
+void write_exr_layers(const fs::path& path, int w, int h,
+                      const std::vector<std::pair<std::string, const float*>>& rgb_layers) {
+    if (format_of(path) != Format::exr)
+        fail("cannot write '{}': layered images must be .exr", path.string());
+    if (rgb_layers.empty()) fail("cannot write '{}': no layers given", path.string());
+    check_size(path, w, h, pixel_count(w, h) * 3);
+
+    // Interleave the layers: per pixel, every layer's R, G, B in turn.
+    int nlayers = static_cast<int>(rgb_layers.size());
+    std::vector<std::string> names;
+    for (const auto& [name, data] : rgb_layers) {
+        if (!data) fail("cannot write '{}': layer '{}' has no data", path.string(), name);
+        std::string prefix = name.empty() ? std::string() : name + ".";
+        for (const char* c : {"R", "G", "B"}) names.push_back(prefix + c);
+    }
+    std::vector<float> interleaved(pixel_count(w, h) * 3 * nlayers);
+    for (std::size_t p = 0; p < pixel_count(w, h); ++p)
+        for (int l = 0; l < nlayers; ++l)
+            for (int c = 0; c < 3; ++c)
+                interleaved[(p * nlayers + l) * 3 + c] = rgb_layers[l].second[p * 3 + c];
+
+    write_atomically(path, [&](const fs::path& tmp) {
+        OIIO::ImageSpec spec(w, h, 3 * nlayers, OIIO::TypeDesc::FLOAT);
+        spec.channelnames = names;
+        spec.attribute("oiio:ColorSpace", "Linear");
+        spec.attribute("compression", "zip");
+        write_with_oiio(path, tmp, spec, OIIO::TypeDesc::FLOAT, interleaved.data());
+    });
+}
+
+Image read_image(const fs::path& path) {
+    std::error_code ec;
+    if (!fs::exists(path, ec)) fail("cannot read image '{}': no such file", path.string());
+    if (fs::is_directory(path, ec)) fail("cannot read image '{}': it is a folder", path.string());
+    std::unique_ptr<OIIO::ImageInput> in = OIIO::ImageInput::open(path.string());
+    if (!in) fail("cannot read image '{}': {}", path.string(), trimmed(OIIO::geterror()));
+
+    const OIIO::ImageSpec spec = in->spec();  // a copy: close() may reset the reader
+    int channels = spec.nchannels;
+    if (channels < 1 || spec.width <= 0 || spec.height <= 0)
+        fail("cannot read image '{}': it holds no pixels", path.string());
+    bool srgb = OIIO::Strutil::iequals(spec.get_string_attribute("oiio:ColorSpace"), "sRGB");
+    // 8-bit sRGB files are read as codes and decoded in double through a table, so each code
+    // maps to exactly srgb_decode(code / 255); everything else is read as float.
+    bool codes = srgb && spec.format == OIIO::TypeDesc::UINT8;
+    std::size_t n = pixel_count(spec.width, spec.height) * channels;
+    std::vector<float> data(n);
+    std::vector<std::uint8_t> code_data(codes ? n : 0);
+    bool ok = codes ? in->read_image(0, 0, 0, channels, OIIO::TypeDesc::UINT8, code_data.data())
+                    : in->read_image(0, 0, 0, channels, OIIO::TypeDesc::FLOAT, data.data());
+    if (!ok) fail("cannot read image '{}': {}", path.string(), trimmed(in->geterror()));
+    in->close();
+    if (codes) {
+        float table[256];
+        for (int c = 0; c < 256; ++c) table[c] = static_cast<float>(srgb_decode(c / 255.0));
+        for (std::size_t i = 0; i < n; ++i) data[i] = table[code_data[i]];
+    } else if (srgb) {
+        for (float& v : data) v = static_cast<float>(srgb_decode(v));
+    }
+
+    // First three channels; one or two channels (grey, grey + alpha) give grey RGB.
+    Image image(spec.width, spec.height);
+    for (std::size_t p = 0; p < pixel_count(spec.width, spec.height); ++p)
+        for (int c = 0; c < 3; ++c)
+            image.rgb[p * 3 + c] = data[p * channels + (channels >= 3 ? c : 0)];
+    return image;
+}
+
+ErrorMetrics compare_images(const Image& x, const Image& r, double relmse_eps) {
+    if (x.width != r.width || x.height != r.height)
+        fail("cannot compare images: sizes differ ({}x{} vs reference {}x{})", x.width, x.height,
+             r.width, r.height);
+    std::size_t n = pixel_count(x.width, x.height) * 3;
+    if (x.rgb.size() != n || r.rgb.size() != n)
+        fail("cannot compare images: pixel buffers do not match their {}x{} size", x.width,
+             x.height);
+
+    ErrorMetrics m;
+    if (n == 0) return m;
+    double se = 0.0, rel = 0.0, ae = 0.0;
+    std::size_t max_at = 0;
+    for (std::size_t i = 0; i < n; ++i) {
+        double d = static_cast<double>(x.rgb[i]) - static_cast<double>(r.rgb[i]);
+        double rv = r.rgb[i];
+        se += d * d;
+        rel += d * d / (rv * rv + relmse_eps);
+        ae += std::abs(d);
+        if (std::abs(d) > m.max_abs) {
+            m.max_abs = std::abs(d);
+            max_at = i;
+        }
+    }
+    m.rmse = std::sqrt(se / static_cast<double>(n));
+    m.relmse = rel / static_cast<double>(n);
+    m.mae = ae / static_cast<double>(n);
+    std::size_t pixel = max_at / 3;
+    m.max_x = static_cast<int>(pixel % static_cast<std::size_t>(x.width));
+    m.max_y = static_cast<int>(pixel / static_cast<std::size_t>(x.width));
+    return m;
+}
+
+Image downsample_box(const Image& image, int factor) {
+    if (factor < 1) fail("cannot downsample: factor {} is not positive", factor);
+    if (image.width % factor != 0 || image.height % factor != 0)
+        fail("cannot downsample a {}x{} image by {}: the factor must divide both sides",
+             image.width, image.height, factor);
+    Image out(image.width / factor, image.height / factor);
+    double inv = 1.0 / (static_cast<double>(factor) * factor);
+    for (int y = 0; y < out.height; ++y)
+        for (int x = 0; x < out.width; ++x) {
+            double sum[3] = {0.0, 0.0, 0.0};
+            for (int sy = 0; sy < factor; ++sy)
+                for (int sx = 0; sx < factor; ++sx) {
+                    const float* p = image.pixel(x * factor + sx, y * factor + sy);
+                    for (int c = 0; c < 3; ++c) sum[c] += p[c];
+                }
+            float* o = out.pixel(x, y);
+            for (int c = 0; c < 3; ++c) o[c] = static_cast<float>(sum[c] * inv);
+        }
+    return out;
+}
+
+}  // namespace wp

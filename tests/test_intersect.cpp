@@ -1,0 +1,158 @@
+// test_intersect.cpp — the intersect kernels on PoCL against a brute-force host loop over
+// every triangle (same watertight test, same tie rule: smallest index at equal t).
+#include <catch2/catch.hpp>
+
+#include <cstring>
+#include <string>
+
+#include "bvh/build.h"
+#include "bvh/device_bvh.h"
+#include "scene/builtin.h"
+#include "scene/procedural.h"
+#include "support.h"
+
+using namespace wp;
+
+namespace {
+
+struct Fixture {
+    Mesh mesh;
+    bvh::FlatBvh flat;
+    bvh::DeviceBvh gpu;
+    glm::vec3 lo, hi;
+};
+
+Fixture make_fixture(Mesh mesh) {
+    Fixture f;
+    f.mesh = std::move(mesh);
+    auto boxes = bvh::triangle_boxes(f.mesh.positions, f.mesh.triangles);
+    f.flat = bvh::flatten(bvh::build(boxes), f.mesh.positions, f.mesh.triangles);
+    f.gpu = bvh::DeviceBvh::upload(test::device(), f.flat);
+    Aabb b;
+    for (const auto& p : f.mesh.positions) b.grow(p);
+    if (b.empty()) b.lo = b.hi = glm::vec3(0.0f);
+    // A little margin so some origins lie outside every triangle's box.
+    glm::vec3 m = 0.05f * (b.extent() + glm::vec3(0.1f));
+    f.lo = b.lo - m;
+    f.hi = b.hi + m;
+    return f;
+}
+
+bvh::BatchTracer& tracer() {
+    static bvh::BatchTracer t(test::device());
+    return t;
+}
+
+// Compares kernel hits with the oracle: exact primitive, t within 1e-5 relative.
+int count_mismatches(const std::vector<Hit>& got, const std::vector<Hit>& want, std::size_t n,
+                     const char* what) {
+    int bad = 0;
+    for (std::size_t i = 0; i < n; ++i) {
+        bool ok = got[i].prim == want[i].prim;
+        if (ok && want[i].prim >= 0) ok = std::fabs(got[i].t - want[i].t) <= 1e-5f * std::fabs(want[i].t);
+        if (!ok && ++bad <= 5)
+            UNSCOPED_INFO(what << " ray " << i << ": got prim " << got[i].prim << " t " << got[i].t
+                               << ", want prim " << want[i].prim << " t " << want[i].t);
+    }
+    return bad;
+}
+
+void check_scene(Mesh mesh, std::size_t rays_n, std::size_t brute_n) {
+    Fixture f = make_fixture(std::move(mesh));
+    auto rays = test::random_rays(rays_n, 42, f.lo, f.hi);
+    auto stackless = tracer().trace(f.gpu, rays, bvh::TraceVariant::Stackless);
+    auto stack = tracer().trace(f.gpu, rays, bvh::TraceVariant::Stack);
+    auto any = tracer().trace(f.gpu, rays, bvh::TraceVariant::Any);
+
+    // Brute force on the first brute_n rays (all of them for small scenes).
+    std::vector<Ray> sub(rays.begin(), rays.begin() + brute_n);
+    auto want = test::brute_force(f.mesh.positions, f.mesh.triangles, sub);
+    CHECK(count_mismatches(stackless, want, brute_n, "stackless") == 0);
+
+    // The stack variant returns identical hits (bit for bit) on every ray.
+    int differ = 0;
+    for (std::size_t i = 0; i < rays_n; ++i)
+        if (std::memcmp(&stack[i], &stackless[i], sizeof(Hit)) != 0) ++differ;
+    CHECK(differ == 0);
+
+    // Any hit agrees on occlusion with the closest hit, on every ray.
+    int occl = 0, hits = 0;
+    for (std::size_t i = 0; i < rays_n; ++i) {
+        hits += stackless[i].prim >= 0;
+        if ((any[i].prim >= 0) != (stackless[i].prim >= 0)) ++occl;
+        // An any-hit answer must be a real hit within (tmin, tmax).
+        if (any[i].prim >= 0 && !(any[i].t > 0.0f && any[i].t < FLT_MAX)) ++occl;
+    }
+    CHECK(occl == 0);
+
+    // Shadow-ray form: tmax just before the closest hit. Brute force decides occlusion.
+    std::vector<Ray> shadow;
+    for (std::size_t i = 0; i < brute_n; ++i) {
+        if (stackless[i].prim < 0) continue;
+        Ray r = rays[i];
+        r.dir.w = stackless[i].t * 0.999f;
+        shadow.push_back(r);
+    }
+    auto any_short = tracer().trace(f.gpu, shadow, bvh::TraceVariant::Any);
+    auto want_short = test::brute_force(f.mesh.positions, f.mesh.triangles, shadow, true);
+    int shadow_bad = 0;
+    for (std::size_t i = 0; i < shadow.size(); ++i)
+        if ((any_short[i].prim >= 0) != (want_short[i].prim >= 0)) ++shadow_bad;
+    CHECK(shadow_bad == 0);
+    INFO(hits << " of " << rays_n << " rays hit");
+    if (!f.mesh.triangles.empty()) CHECK(hits > 0);
+}
+
+}  // namespace
+
+TEST_CASE("intersect kernels match brute force: random soup", "[kernel][intersect]") {
+    check_scene(make_random_soup(2000, 5, {-1, -1, -1}, {1, 1, 1}, 0.25f), 100000, 100000);
+}
+
+TEST_CASE("intersect kernels match brute force: closed sphere", "[kernel][intersect]") {
+    check_scene(make_uv_sphere({0.3f, -0.1f, 0.2f}, 1.0f, 32, 48), 100000, 100000);
+}
+
+TEST_CASE("intersect kernels match brute force: Cornell box (16k triangles)", "[kernel][intersect]") {
+    Scene s = make_cornell_box();
+    check_scene(Mesh{s.positions, s.triangles}, 100000, 12000);
+}
+
+TEST_CASE("intersect kernels match brute force: degenerate scenes", "[kernel][intersect][hard]") {
+    SECTION("all coplanar, rays in and across the plane") {
+        check_scene(make_random_soup(1500, 6, {-1, -1, 0}, {1, 1, 0}, 0.2f), 100000, 100000);
+    }
+    SECTION("all identical: the smallest index wins every tie") {
+        Mesh m;
+        m.positions = {{-1, -1, 0.2f}, {1, -1, 0.3f}, {0, 1, -0.1f}};
+        for (int i = 0; i < 100; ++i) m.triangles.push_back({0, 1, 2});
+        check_scene(m, 100000, 100000);
+    }
+    SECTION("single triangle") {
+        Mesh m;
+        m.positions = {{-1, -1, 0}, {1, -1, 0}, {0, 1, 0}};
+        m.triangles = {{0, 1, 2}};
+        check_scene(m, 100000, 100000);
+    }
+    SECTION("duplicated and zero-area triangles mixed with real ones") {
+        Mesh m = make_random_soup(800, 8, {-1, -1, -1}, {1, 1, 1}, 0.3f);
+        std::size_t n = m.triangles.size();
+        for (std::size_t i = 0; i < n; i += 3) m.triangles.push_back(m.triangles[i]);  // duplicates
+        for (std::size_t i = 0; i < n; i += 5) {
+            auto t = m.triangles[i];
+            m.triangles.push_back({t.x, t.y, t.y});  // zero area
+        }
+        check_scene(m, 100000, 100000);
+    }
+}
+
+TEST_CASE("an empty scene is all misses", "[kernel][intersect]") {
+    Fixture f = make_fixture(Mesh{});
+    auto rays = test::random_rays(1000, 1, {-1, -1, -1}, {1, 1, 1});
+    for (auto v : {bvh::TraceVariant::Stackless, bvh::TraceVariant::Stack, bvh::TraceVariant::Any}) {
+        auto hits = tracer().trace(f.gpu, rays, v);
+        int any_hit = 0;
+        for (const auto& h : hits) any_hit += h.prim >= 0 || h.t != FLT_MAX;
+        CHECK(any_hit == 0);
+    }
+}
