@@ -1,13 +1,287 @@
-// cmd_bench.cpp — `wavepath bench ...` (placeholder).
+// cmd_bench.cpp — `wavepath bench intersect` and `wavepath bench build`.
+//
+// intersect: builds deterministic ray sets (bench_rays.h) for a scene, traces them with
+// every traversal variant (median of --runs timed runs, wall time of launch + finish),
+// counts box and triangle tests per ray in a separate statistics build, and, when built
+// with Embree, traces the same rays with rtcIntersect1 / rtcOccluded1 on 1 and 2 threads
+// and prints the ratios. build: BVH build times of the 16k-triangle box and a 250k mesh.
+#include <algorithm>
+#include <cstdio>
+#include <fstream>
+#include <thread>
+
+#include <fmt/format.h>
+#include <nlohmann/json.hpp>
+
+#include "app/bench_rays.h"
+#include "app/embree_ref.h"
 #include "app/subcommands.h"
+#include "bvh/build.h"
+#include "bvh/device_bvh.h"
+#include "bvh/flatten.h"
+#include "scene/builtin.h"
+#include "scene/obj_loader.h"
+#include "scene/procedural.h"
+#include "util/atomic_file.h"
 #include "util/error.h"
+#include "util/timer.h"
 
 namespace wp::app {
 
+namespace {
+
+using nlohmann::json;
+
+double median(std::vector<double> v) {
+    if (v.empty()) return 0.0;
+    std::sort(v.begin(), v.end());
+    std::size_t n = v.size();
+    return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
+}
+
+struct IntersectOptions {
+    std::string scene;
+    std::string rays = "all";
+    std::string device;
+    std::string json_path;
+    int runs = 7;
+    int builds = 5;
+    bool embree = true;
+};
+
+struct BvhBuildResult {
+    bvh::FlatBvh flat;
+    double build_ms = 0.0;  // median
+    int nodes = 0;
+    double sah = 0.0;
+};
+
+BvhBuildResult build_bvh(const Scene& s, int repeats) {
+    auto boxes = bvh::triangle_boxes(s.positions, s.triangles);
+    std::vector<double> ms;
+    bvh::Bvh b;
+    for (int i = 0; i < std::max(1, repeats); ++i) {
+        Timer t;
+        b = bvh::build(boxes);
+        ms.push_back(t.ms());
+    }
+    BvhBuildResult r;
+    r.build_ms = median(ms);
+    r.sah = bvh::sah_cost(b);
+    r.flat = bvh::flatten(b, s.positions, s.triangles);
+    r.nodes = static_cast<int>(r.flat.nodes.size());
+    return r;
+}
+
+int run_intersect(const IntersectOptions& o) {
+    // Scene and BVH.
+    Scene scene = o.scene.empty() ? make_cornell_box() : load_obj(o.scene);
+    std::string scene_name = o.scene.empty() ? "built-in cornell-box" : o.scene;
+    auto built = build_bvh(scene, o.builds);
+    fmt::print("scene: {} ({} triangles), camera {}x{}\n", scene_name, scene.triangles.size(), scene.camera.width,
+               scene.camera.height);
+    fmt::print("BVH: {:.2f} ms build (median of {}), {} nodes, depth {}, SAH cost {:.1f}\n", built.build_ms, o.builds,
+               built.nodes, built.flat.depth, built.sah);
+
+    // Device, programs, buffers.
+    auto dev = ocl::Device::open(o.device);
+    fmt::print("device: {}: {}\n", dev.info.platform, dev.info.name);
+    Timer tprog;
+    bvh::BatchTracer tracer(dev);
+    double program_ms = tprog.ms();
+    bvh::BatchTracer stats_tracer(dev, true);
+    auto gpu = bvh::DeviceBvh::upload(dev, built.flat);
+    fmt::print("program: intersect.cl built in {:.0f} ms ({})\n", program_ms,
+               tracer.program().from_cache ? "from the wavepath cache" : "compiled");
+
+    // Ray sets: primary rays traced once to place the secondary ones.
+    auto primary = primary_rays(scene.camera);
+    auto primary_hits = tracer.trace(gpu, primary, bvh::TraceVariant::Stackless);
+    RaySets sets = make_ray_sets(scene, primary, primary_hits);
+
+    std::unique_ptr<EmbreeScene> embree;
+    if (o.embree && embree_available()) embree = std::make_unique<EmbreeScene>(scene.positions, scene.triangles);
+    unsigned hw = std::max(1u, std::thread::hardware_concurrency());
+
+    json report;
+    report["scene"] = {{"name", scene_name}, {"triangles", scene.triangles.size()}};
+    report["bvh"] = {{"build_ms", built.build_ms}, {"nodes", built.nodes}, {"depth", built.flat.depth},
+                     {"sah_cost", built.sah}};
+    report["device"] = {{"platform", dev.info.platform}, {"name", dev.info.name}, {"driver", dev.info.driver}};
+    report["program_build_ms"] = program_ms;
+    report["program_from_cache"] = tracer.program().from_cache;
+    report["runs"] = o.runs;
+    report["sets"] = json::array();
+
+    fmt::print("\n{:<8} {:>8}  {:<10} {:>9} {:>9} {:>8} {:>8} {:>11}\n", "rays", "count", "traversal", "Mrays/s",
+               "first ms", "box/ray", "tri/ray", "vs Embree2T");
+    struct SetDesc {
+        const char* name;
+        const std::vector<Ray>* rays;
+        bool shadow;
+    };
+    std::vector<SetDesc> descs = {{"primary", &sets.primary, false},
+                                  {"diffuse", &sets.diffuse, false},
+                                  {"shadow", &sets.shadow, true}};
+    for (const auto& sd : descs) {
+        if (o.rays != "all" && o.rays != sd.name) continue;
+        const auto& rays = *sd.rays;
+        if (rays.empty()) {
+            fmt::print("{:<8} (no rays: {})\n", sd.name, sd.shadow ? "the scene has no emitter" : "no primary hits");
+            continue;
+        }
+        int n = static_cast<int>(rays.size());
+        ::cl::Buffer rb(dev.context, CL_MEM_READ_ONLY, rays.size() * sizeof(Ray));
+        ::cl::Buffer hb(dev.context, CL_MEM_READ_WRITE, rays.size() * sizeof(Hit));
+        dev.queue.enqueueWriteBuffer(rb, CL_TRUE, 0, rays.size() * sizeof(Ray), rays.data());
+        json jset = {{"rays", sd.name}, {"count", n}, {"variants", json::array()}};
+
+        // Embree first (its numbers are the denominators).
+        double embree_1t = 0.0, embree_2t = 0.0;
+        std::vector<Hit> ehits;
+        if (embree) {
+            std::vector<double> t1, t2;
+            embree->trace(rays, sd.shadow, 1, ehits);  // warm-up
+            for (int r = 0; r < o.runs; ++r) t1.push_back(embree->trace(rays, sd.shadow, 1, ehits));
+            for (int r = 0; r < o.runs; ++r) t2.push_back(embree->trace(rays, sd.shadow, 2, ehits));
+            embree_1t = n / (median(t1) * 1e3);
+            embree_2t = n / (median(t2) * 1e3);
+            jset["embree"] = {{"version", embree_version()}, {"mrays_1t", embree_1t}, {"mrays_2t", embree_2t},
+                              {"call", sd.shadow ? "rtcOccluded1" : "rtcIntersect1"}};
+        }
+
+        std::vector<bvh::TraceVariant> variants =
+            sd.shadow ? std::vector<bvh::TraceVariant>{bvh::TraceVariant::Any, bvh::TraceVariant::Stackless}
+                      : std::vector<bvh::TraceVariant>{bvh::TraceVariant::Stackless, bvh::TraceVariant::Stack};
+        for (auto v : variants) {
+            // First launch (includes PoCL's work-group function compile), then timed runs.
+            Timer tf;
+            tracer.enqueue(gpu, rb, n, hb, v);
+            dev.queue.finish();
+            double first_ms = tf.ms();
+            std::vector<double> ms;
+            for (int r = 0; r < o.runs; ++r) {
+                Timer t;
+                tracer.enqueue(gpu, rb, n, hb, v);
+                dev.queue.finish();
+                ms.push_back(t.ms());
+            }
+            double mrays = n / (median(ms) * 1e3);
+            // Statistics from the WP_STATS build.
+            std::vector<TraceStats> st;
+            auto hits = stats_tracer.trace(gpu, rays, v, &st);
+            double box = 0, tri = 0;
+            for (const auto& s : st) {
+                box += s.box_tests;
+                tri += s.tri_tests;
+            }
+            box /= n;
+            tri /= n;
+            // Agreement with Embree (a sanity figure: edge hits may legitimately differ).
+            double agree = -1.0;
+            if (embree) {
+                std::size_t same = 0;
+                for (std::size_t i = 0; i < rays.size(); ++i) {
+                    bool eh = ehits[i].prim >= 0, wh = hits[i].prim >= 0;
+                    same += sd.shadow || v == bvh::TraceVariant::Any ? eh == wh : ehits[i].prim == hits[i].prim;
+                }
+                agree = static_cast<double>(same) / rays.size();
+            }
+            std::string ratio = embree ? fmt::format("{:.2f}x", mrays / embree_2t) : "-";
+            fmt::print("{:<8} {:>8}  {:<10} {:>9.2f} {:>9.1f} {:>8.1f} {:>8.2f} {:>11}\n", sd.name, n, to_string(v),
+                       mrays, first_ms, box, tri, ratio);
+            json jv = {{"traversal", to_string(v)}, {"mrays", mrays}, {"median_ms", median(ms)}, {"runs_ms", ms},
+                       {"first_launch_ms", first_ms}, {"box_tests_per_ray", box}, {"tri_tests_per_ray", tri}};
+            if (embree) {
+                jv["ratio_vs_embree_2t"] = mrays / embree_2t;
+                jv["ratio_vs_embree_1t"] = mrays / embree_1t;
+                jv["agreement_with_embree"] = agree;
+            }
+            jset["variants"].push_back(jv);
+        }
+        if (embree)
+            fmt::print("{:<8} {:>8}  {:<10} {:>9.2f} (1 thread) {:.2f} (2 threads)\n", sd.name, n,
+                       sd.shadow ? "embree-occ1" : "embree-int1", embree_1t, embree_2t);
+        report["sets"].push_back(jset);
+    }
+    if (embree) {
+        report["embree_build_ms"] = embree->build_ms();
+        fmt::print("\nEmbree {}: scene build {:.2f} ms; {} hardware threads\n", embree_version(), embree->build_ms(), hw);
+    } else {
+        fmt::print("\nEmbree comparator: {}\n", embree_available() ? "disabled (--no-embree)" : "not in this build");
+    }
+    if (!o.json_path.empty()) {
+        std::string text = report.dump(2) + "\n";
+        if (o.json_path == "-")
+            fmt::print("{}", text);
+        else
+            write_text_atomically(o.json_path, text);
+    }
+    return 0;
+}
+
+int run_build(int repeats, const std::string& json_path) {
+    json report = json::array();
+    auto one = [&](const std::string& name, const std::vector<glm::vec3>& pos, const std::vector<glm::uvec3>& tris) {
+        auto boxes = bvh::triangle_boxes(pos, tris);
+        std::vector<double> ms, ms1;
+        bvh::Bvh b;
+        bvh::BuildOptions single;
+        single.threads = 1;
+        for (int i = 0; i < repeats; ++i) {
+            Timer t;
+            b = bvh::build(boxes);
+            ms.push_back(t.ms());
+            Timer t1;
+            bvh::build(boxes, single);
+            ms1.push_back(t1.ms());
+        }
+        fmt::print("{:<28} {:>8} triangles  {:>8.2f} ms (all threads)  {:>8.2f} ms (1 thread)  depth {}  SAH {:.1f}\n",
+                   name, tris.size(), median(ms), median(ms1), b.depth, bvh::sah_cost(b));
+        report.push_back({{"mesh", name}, {"triangles", tris.size()}, {"build_ms", median(ms)},
+                          {"build_ms_1thread", median(ms1)}, {"depth", b.depth}, {"sah_cost", bvh::sah_cost(b)}});
+    };
+    Scene box = make_cornell_box();
+    one("built-in cornell-box", box.positions, box.triangles);
+    Mesh stress = make_stress_mesh(250000);
+    one("stress mesh", stress.positions, stress.triangles);
+    fmt::print("(median of {} builds, {} hardware threads)\n", repeats, std::thread::hardware_concurrency());
+    if (!json_path.empty()) write_text_atomically(json_path, report.dump(2) + "\n");
+    return 0;
+}
+
+}  // namespace
+
 Subcommand add_bench(CLI::App& app) {
     Subcommand s;
-    s.app = app.add_subcommand("bench", "Benchmarks");
-    s.run = []() -> int { fail("bench is not implemented yet"); };
+    s.app = app.add_subcommand("bench", "Benchmarks (speed figures for the README)");
+    s.app->require_subcommand(1);
+    auto o = std::make_shared<IntersectOptions>();
+    auto* in = s.app->add_subcommand("intersect", "Trace primary, diffuse and shadow ray sets with every traversal "
+                                                  "variant (and Embree 3 when built with it)");
+    in->add_option("--scene", o->scene, "OBJ file to trace (default: the built-in ~16k-triangle Cornell box)")
+        ->check(CLI::ExistingFile);
+    in->add_option("--rays", o->rays, "Ray set: primary, diffuse, shadow or all")
+        ->check(CLI::IsMember({"primary", "diffuse", "shadow", "all"}))
+        ->capture_default_str();
+    in->add_option("--runs", o->runs, "Timed runs per measurement (the median is reported)")
+        ->check(CLI::Range(1, 1000))
+        ->capture_default_str();
+    in->add_option("--device", o->device, "OpenCL device: index or name substring (see `wavepath devices`)");
+    in->add_option("--json", o->json_path, "Also write the figures as JSON to this file ('-' = stdout)");
+    in->add_flag("!--no-embree", o->embree, "Skip the Embree comparison");
+    auto build_runs = std::make_shared<int>(7);
+    auto build_json = std::make_shared<std::string>();
+    auto* bd = s.app->add_subcommand("build", "Time BVH builds of the built-in box and a 250k-triangle mesh");
+    bd->add_option("--runs", *build_runs, "Builds per mesh (the median is reported)")
+        ->check(CLI::Range(1, 1000))
+        ->capture_default_str();
+    bd->add_option("--json", *build_json, "Also write the figures as JSON to this file");
+    s.run = [o, in, bd, build_runs, build_json]() -> int {
+        if (in->parsed()) return run_intersect(*o);
+        if (bd->parsed()) return run_build(*build_runs, *build_json);
+        return 2;
+    };
     return s;
 }
 
