@@ -1,0 +1,325 @@
+#include "scene/obj_loader.h"
+
+#include <algorithm>
+#include <charconv>
+#include <cmath>
+#include <fstream>
+#include <sstream>
+#include <string_view>
+
+#include <tiny_obj_loader.h>
+
+#include "scene/validate.h"
+#include "util/error.h"
+
+namespace wp {
+
+namespace {
+
+bool is_space(char c) {
+    return c == ' ' || c == '\t' || c == '\r' || c == '\f' || c == '\v';
+}
+
+// Splits a line into whitespace-separated tokens, up to a comment ('#').
+std::vector<std::string_view> tokens(std::string_view line) {
+    std::vector<std::string_view> out;
+    std::size_t i = 0;
+    while (i < line.size()) {
+        while (i < line.size() && is_space(line[i]))
+            ++i;
+        std::size_t j = i;
+        while (j < line.size() && !is_space(line[j]))
+            ++j;
+        if (j > i && line[i] == '#') break;
+        if (j > i) out.push_back(line.substr(i, j - i));
+        i = j;
+    }
+    return out;
+}
+
+// Reads and checks the raw file before tinyobjloader sees it: tinyobjloader reads "nan" or
+// garbage as 0, and turns out-of-range face indices into out-of-range shape indices (or
+// silently drops the face), without a line number. Here every `v` must have 3 finite
+// coordinates and every `f` at least 3 vertices whose position index lies in
+// [1, vertex count]. Returns the text for tinyobjloader, with trailing comments removed
+// from geometry lines (tinyobjloader rejects "f 1 2 3 # note"); line numbers are kept.
+std::string read_checked_obj(const std::filesystem::path& path, std::size_t& face_count) {
+    std::ifstream in(path, std::ios::binary);
+    if (!in) fail("cannot open '{}'", path.string());
+    const std::string file = path.string();
+    std::string text;
+
+    struct Forward { // a positive index beyond the vertices read so far, checked at the end
+        std::size_t line;
+        long index;
+    };
+    std::vector<Forward> forward;
+    std::size_t vertices = 0, line_no = 0;
+    face_count = 0;
+    std::string line;
+    while (std::getline(in, line)) {
+        ++line_no;
+        auto tok = tokens(line);
+        // Geometry lines without their comment tail; other lines (names may hold '#') as is
+        static constexpr std::string_view kGeometry[] = {"v", "vt", "vn", "vp", "f", "l", "p"};
+        if (!tok.empty() &&
+            std::find(std::begin(kGeometry), std::end(kGeometry), tok[0]) != std::end(kGeometry)) {
+            for (auto t : tok)
+                text.append(t).push_back(' ');
+        } else {
+            text.append(line);
+        }
+        text.push_back('\n');
+        if (tok.empty()) continue;
+
+        // Vertex: 3 finite coordinates (a 4th w or RGB colours may follow)
+        if (tok[0] == "v") {
+            ++vertices;
+            if (tok.size() < 4)
+                fail("{}:{}: vertex {} has {} coordinates, expected 3", file, line_no, vertices,
+                     tok.size() - 1);
+            for (std::size_t k = 1; k < 4; ++k) {
+                std::string_view t = tok[k];
+                if (!t.empty() && t[0] == '+') t.remove_prefix(1);
+                double x = 0.0;
+                auto [end, ec] = std::from_chars(t.data(), t.data() + t.size(), x);
+                if (ec == std::errc::result_out_of_range ||
+                    (ec == std::errc() && !std::isfinite(x)))
+                    fail("{}:{}: vertex {} has a non-finite coordinate '{}'", file, line_no,
+                         vertices, tok[k]);
+                if (ec != std::errc() || end != t.data() + t.size())
+                    fail("{}:{}: vertex {} has an unreadable coordinate '{}'", file, line_no,
+                         vertices, tok[k]);
+                if (!std::isfinite(static_cast<float>(x)))
+                    fail("{}:{}: vertex {} has a coordinate '{}' beyond the float range", file,
+                         line_no, vertices, tok[k]);
+            }
+            continue;
+        }
+
+        // Face: >= 3 vertices, position indices 1..N or -1..-N (relative to this line)
+        if (tok[0] == "f") {
+            if (tok.size() < 4)
+                fail("{}:{}: face has {} vertices, at least 3 are needed", file, line_no,
+                     tok.size() - 1);
+            for (std::size_t k = 1; k < tok.size(); ++k) {
+                std::string_view t = tok[k].substr(0, tok[k].find('/'));
+                long idx = 0;
+                auto [end, ec] = std::from_chars(t.data(), t.data() + t.size(), idx);
+                if (ec != std::errc() || end != t.data() + t.size())
+                    fail("{}:{}: face vertex '{}' is not a vertex index", file, line_no, tok[k]);
+                if (idx == 0)
+                    fail("{}:{}: face vertex index 0 is invalid (OBJ indices start at 1)", file,
+                         line_no);
+                if (idx < 0 && long(vertices) + idx < 0)
+                    fail("{}:{}: face vertex index {} is out of range: only {} vertices precede "
+                         "this line",
+                         file, line_no, idx, vertices);
+                if (idx > long(vertices)) forward.push_back({line_no, idx});
+            }
+            ++face_count;
+        }
+    }
+    // Positive indices may name vertices defined later in the file, but must exist
+    for (const Forward& f : forward)
+        if (f.index > long(vertices))
+            fail("{}:{}: face vertex index {} is out of range: the file has {} vertices", file,
+                 f.line, f.index, vertices);
+    if (in.bad()) fail("cannot read '{}'", file);
+    return text;
+}
+
+float max3(const tinyobj::real_t c[3]) {
+    return float(std::max({c[0], c[1], c[2]}));
+}
+float min3(const tinyobj::real_t c[3]) {
+    return float(std::min({c[0], c[1], c[2]}));
+}
+glm::vec3 vec3(const tinyobj::real_t c[3]) {
+    return glm::vec3(float(c[0]), float(c[1]), float(c[2]));
+}
+
+// One MTL material to a wavepath material, by the table in obj_loader.h.
+Material convert_material(const tinyobj::material_t& mt, const std::string& file,
+                          std::vector<std::string>& warnings) {
+    Material m;
+    m.name = mt.name;
+    const bool kd_zero = max3(mt.diffuse) <= 0.001f;
+    const bool ks_some = max3(mt.specular) > 0.0f;
+    const bool ks_perfect = min3(mt.specular) >= 0.999f;
+    const bool reflect = mt.illum == 3 || mt.illum == 5;
+    const float ns = float(mt.shininess);
+    auto clamped = [&](const char* what, glm::vec3 c) {
+        glm::vec3 r = glm::clamp(c, glm::vec3(0.0f), glm::vec3(1.0f));
+        if (r != c)
+            warnings.push_back(fmt::format("{}: material '{}': {} ({}, {}, {}) clamped to [0, 1]",
+                                           file, mt.name, what, c.x, c.y, c.z));
+        return r;
+    };
+
+    // Kind and albedo: mirror, glossy, else diffuse
+    if (reflect && kd_zero && ks_some && (ns >= 1000.0f || ks_perfect)) {
+        m.kind = MaterialKind::Mirror;
+        m.albedo = clamped("Ks", vec3(mt.specular));
+    } else if ((mt.illum == 2 || reflect) && kd_zero && ks_some && std::isfinite(ns)) {
+        m.kind = MaterialKind::Glossy;
+        m.albedo = clamped("Ks", vec3(mt.specular));
+        m.exponent = std::max(0.0f, ns);
+    } else {
+        m.kind = MaterialKind::Diffuse;
+        m.albedo = clamped("Kd", vec3(mt.diffuse));
+        if (reflect && ks_some && !kd_zero)
+            warnings.push_back(fmt::format(
+                "{}: material '{}': has both Kd and Ks with illum {}; wavepath has no layered "
+                "material, so it is diffuse (Ks ignored)",
+                file, mt.name, mt.illum));
+    }
+
+    // Emission: Ke, one-sided radiance
+    glm::vec3 e = vec3(mt.emission);
+    m.emission = glm::max(e, glm::vec3(0.0f));
+    if (m.emission != e)
+        warnings.push_back(fmt::format("{}: material '{}': negative Ke ({}, {}, {}) set to 0", file,
+                                       mt.name, e.x, e.y, e.z));
+
+    // What is not modelled
+    if (mt.illum == 4 || mt.illum == 6 || mt.illum == 7 || mt.illum == 9)
+        warnings.push_back(fmt::format(
+            "{}: material '{}': illum {} (transparency/refraction) is not supported; rendered as "
+            "{}",
+            file, mt.name, mt.illum, to_string(m.kind)));
+    for (const std::string* tex : {&mt.diffuse_texname, &mt.specular_texname, &mt.emissive_texname,
+                                   &mt.bump_texname, &mt.alpha_texname})
+        if (!tex->empty())
+            warnings.push_back(
+                fmt::format("{}: material '{}': texture '{}' ignored", file, mt.name, *tex));
+    return m;
+}
+
+// Looks at the centre of the box from +z, far enough for the bounding sphere to fit the
+// vertical fov.
+Camera frame_bounds(const Aabb& b) {
+    Camera c;
+    c.width = 800;
+    c.height = 600;
+    c.vfov_deg = 40.0f;
+    const float radius = std::max(0.5f * glm::length(b.extent()), 1e-3f);
+    const float distance = radius / std::sin(glm::radians(0.5f * c.vfov_deg));
+    c.target = b.center();
+    c.position = c.target + glm::vec3(0.0f, 0.0f, distance);
+    c.up = glm::vec3(0.0f, 1.0f, 0.0f);
+    return c;
+}
+
+// tinyobjloader's multi-line messages as prefixed warning lines.
+void add_lines(std::vector<std::string>& out, const std::string& file, const std::string& text) {
+    std::size_t i = 0;
+    while (i < text.size()) {
+        std::size_t j = text.find('\n', i);
+        if (j == std::string::npos) j = text.size();
+        std::string_view l(text.data() + i, j - i);
+        while (!l.empty() && is_space(l.back()))
+            l.remove_suffix(1);
+        if (!l.empty()) out.push_back(fmt::format("{}: {}", file, l));
+        i = j + 1;
+    }
+}
+
+} // namespace
+
+Scene load_obj(const std::filesystem::path& path) {
+    const std::string file = path.string();
+    std::error_code ec;
+    if (!std::filesystem::exists(path, ec)) fail("cannot open '{}': no such file", file);
+    if (std::filesystem::is_directory(path, ec)) fail("cannot open '{}': it is a directory", file);
+
+    // Raw-file checks that tinyobjloader does not make (indices, NaN, line numbers)
+    std::size_t faces = 0;
+    std::istringstream text(read_checked_obj(path, faces));
+    if (faces == 0) fail("{}: no triangles (the file has no faces)", file);
+
+    // Parse, triangulating polygons; .mtl files are looked up beside the .obj
+    tinyobj::attrib_t attrib;
+    std::vector<tinyobj::shape_t> shapes;
+    std::vector<tinyobj::material_t> mtls;
+    std::string warn, err;
+    std::string mtl_dir = path.parent_path().string();
+    if (!mtl_dir.empty()) mtl_dir += '/';
+    tinyobj::MaterialFileReader mtl_reader(mtl_dir);
+    if (!tinyobj::LoadObj(&attrib, &shapes, &mtls, &warn, &err, &text, &mtl_reader,
+                          /*triangulate=*/true, /*default_vcols_fallback=*/false)) {
+        while (!err.empty() && (is_space(err.back()) || err.back() == '\n'))
+            err.pop_back();
+        fail("{}: {}", file, err.empty() ? "tinyobjloader could not parse the file" : err);
+    }
+    Scene scene;
+    scene.name = path.filename().string();
+    add_lines(scene.warnings, file, warn);
+    add_lines(scene.warnings, file, err); // non-fatal messages (e.g. from the .mtl)
+
+    // Vertices, in file order
+    const std::size_t nv = attrib.vertices.size() / 3;
+    scene.positions.reserve(nv);
+    for (std::size_t i = 0; i < nv; ++i)
+        scene.positions.emplace_back(float(attrib.vertices[3 * i]),
+                                     float(attrib.vertices[3 * i + 1]),
+                                     float(attrib.vertices[3 * i + 2]));
+
+    // Triangles, with materials converted on first use
+    std::vector<std::uint32_t> used(mtls.size(), ~0u);
+    std::uint32_t default_id = ~0u;
+    std::size_t without_material = 0;
+    for (const auto& shape : shapes) {
+        const auto& mesh = shape.mesh;
+        std::size_t offset = 0;
+        for (std::size_t f = 0; f < mesh.num_face_vertices.size(); ++f) {
+            const std::size_t n = mesh.num_face_vertices[f];
+            if (n != 3)
+                fail("{}: shape '{}': face {} has {} vertices after triangulation", file,
+                     shape.name, f, n);
+            glm::uvec3 t;
+            for (int k = 0; k < 3; ++k) {
+                int vi = mesh.indices[offset + k].vertex_index;
+                if (vi < 0 || std::size_t(vi) >= nv)
+                    fail("{}: shape '{}': face {} uses vertex index {} of {}", file, shape.name, f,
+                         vi + 1, nv);
+                t[k] = std::uint32_t(vi);
+            }
+            offset += n;
+
+            // Material: the file's, or the default one
+            int mi = f < mesh.material_ids.size() ? mesh.material_ids[f] : -1;
+            std::uint32_t id;
+            if (mi >= 0 && std::size_t(mi) < mtls.size()) {
+                if (used[mi] == ~0u)
+                    used[mi] = scene.add_material(convert_material(mtls[mi], file, scene.warnings));
+                id = used[mi];
+            } else {
+                if (default_id == ~0u) {
+                    Material d;
+                    d.name = "default";
+                    d.kind = MaterialKind::Diffuse;
+                    d.albedo = glm::vec3(0.5f);
+                    default_id = scene.add_material(d);
+                }
+                id = default_id;
+                ++without_material;
+            }
+            scene.triangles.push_back(t);
+            scene.material_ids.push_back(id);
+        }
+    }
+    if (scene.triangles.empty()) fail("{}: no triangles (every face was dropped)", file);
+    if (without_material > 0)
+        scene.warnings.push_back(fmt::format(
+            "{}: {} of {} triangles have no material; they use the mid-grey diffuse 'default'",
+            file, without_material, scene.triangles.size()));
+
+    // Camera framing the geometry; black background
+    scene.camera = frame_bounds(scene.bounds());
+    scene.background = glm::vec3(0.0f);
+    validate_scene(scene);
+    return scene;
+}
+
+} // namespace wp

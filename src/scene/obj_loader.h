@@ -1,0 +1,45 @@
+// obj_loader.h — Wavefront OBJ/MTL files into a Scene (tinyobjloader, polygons triangulated).
+//
+// Geometry: every `v` becomes a vertex (in file order, so vertex i of the scene is the
+// file's vertex i + 1), every face a triangle fan; normals, texture coordinates, lines and
+// points are ignored. Negative (relative) indices are supported.
+//
+// Material mapping (MTL → wavepath), first rule that matches wins; "≈ 0" means every channel
+// <= 0.001, and Ks "perfect" means every channel >= 0.999:
+//   Ke                                                   → emission (any kind; negative → 0)
+//   illum 3 or 5, Kd ≈ 0, Ks > 0, and Ns >= 1000 or Ks perfect
+//                                                        → Mirror, albedo = Ks
+//   illum 2, 3 or 5, Kd ≈ 0, Ks > 0 (Ns finite)          → Glossy, albedo = Ks, exponent = Ns
+//   anything else                                        → Diffuse, albedo = Kd
+// Albedos are clamped to [0, 1]. A material with both Kd and Ks that asks for reflection
+// (illum 3 or 5) becomes Diffuse with a warning (wavepath has no layered material);
+// transparency/refraction (illum 4, 6, 7, 9) and texture maps are ignored with a warning.
+// Triangles without a material (no `usemtl`, an unknown name, a missing .mtl) get the
+// mid-grey (0.5) diffuse material "default", with ONE warning for the whole file. Only the
+// materials that some triangle uses are kept.
+//
+// Warnings (those of tinyobjloader and the ones above, each prefixed by the file name) are
+// returned in Scene::warnings; nothing is printed.
+//
+// Camera: 800 x 600, vertical fov 40 degrees, looking from +z at the centre of the bounding
+// box, far enough that the bounding sphere fits the vertical fov; up = +y; black
+// background. A companion `<file>.camera.json` is not read yet (the scene format of issue 7
+// will bring cameras).
+//
+// Errors throw wp::Error with the file name, the line where known, and what is wrong:
+//   "cannot open 'path'", tinyobjloader's own errors, a face index that is 0 or out of
+//   range ("path:LINE: face vertex index 9 is out of range: ..."), a face with fewer than 3
+//   vertices, a vertex coordinate that is missing, unreadable, NaN or infinite
+//   ("path:LINE: vertex 4 has a non-finite coordinate 'nan'"), and a file with no triangles.
+// The result has passed validate_scene.
+#pragma once
+
+#include <filesystem>
+
+#include "scene/scene.h"
+
+namespace wp {
+
+Scene load_obj(const std::filesystem::path& path);
+
+} // namespace wp

@@ -1,0 +1,76 @@
+#include "scene/validate.h"
+
+#include <cmath>
+
+#include "util/error.h"
+
+namespace wp {
+
+namespace {
+
+bool finite(glm::vec3 v) {
+    return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z);
+}
+
+} // namespace
+
+void validate_scene(const Scene& scene) {
+    const std::string& name = scene.name.empty() ? std::string("(unnamed)") : scene.name;
+
+    // Geometry: at least one triangle, indices in range, finite positions
+    if (scene.triangles.empty()) fail("scene '{}': no triangles", name);
+    const std::size_t nv = scene.positions.size();
+    for (std::size_t i = 0; i < scene.triangles.size(); ++i) {
+        const glm::uvec3& t = scene.triangles[i];
+        for (int k = 0; k < 3; ++k)
+            if (t[k] >= nv)
+                fail("scene '{}': triangle {} uses vertex {}, but there are only {} vertices", name,
+                     i, t[k], nv);
+    }
+    for (std::size_t i = 0; i < nv; ++i) {
+        const glm::vec3& p = scene.positions[i];
+        if (!finite(p))
+            fail("scene '{}': vertex {} has a non-finite position ({}, {}, {})", name, i, p.x, p.y,
+                 p.z);
+    }
+
+    // Materials: one id per triangle, each in range, each material physically sane
+    if (scene.material_ids.size() != scene.triangles.size())
+        fail("scene '{}': {} material ids for {} triangles", name, scene.material_ids.size(),
+             scene.triangles.size());
+    for (std::size_t i = 0; i < scene.material_ids.size(); ++i)
+        if (scene.material_ids[i] >= scene.materials.size())
+            fail("scene '{}': triangle {} uses material {}, but there are only {} materials", name,
+                 i, scene.material_ids[i], scene.materials.size());
+    for (std::size_t i = 0; i < scene.materials.size(); ++i) {
+        const Material& m = scene.materials[i];
+        const glm::vec3 a = m.albedo, e = m.emission;
+        if (!finite(a) || glm::any(glm::lessThan(a, glm::vec3(0.0f))) ||
+            glm::any(glm::greaterThan(a, glm::vec3(1.0f))))
+            fail("scene '{}': material {} ('{}') has albedo ({}, {}, {}) outside [0, 1]", name, i,
+                 m.name, a.x, a.y, a.z);
+        if (!finite(e) || glm::any(glm::lessThan(e, glm::vec3(0.0f))))
+            fail("scene '{}': material {} ('{}') has emission ({}, {}, {}), which must be finite "
+                 "and >= 0",
+                 name, i, m.name, e.x, e.y, e.z);
+        if (!std::isfinite(m.exponent) || m.exponent < 0.0f)
+            fail("scene '{}': material {} ('{}') has exponent {}, which must be finite and >= 0",
+                 name, i, m.name, m.exponent);
+    }
+
+    // Camera: a film, a direction, a field of view
+    const Camera& c = scene.camera;
+    if (c.width <= 0 || c.height <= 0)
+        fail("scene '{}': camera film is {} x {} pixels", name, c.width, c.height);
+    if (!(c.vfov_deg > 0.0f && c.vfov_deg < 180.0f))
+        fail("scene '{}': camera vertical fov {} is not in (0, 180) degrees", name, c.vfov_deg);
+    if (!finite(c.position) || !finite(c.target) || !finite(c.up))
+        fail("scene '{}': camera position, target or up is not finite", name);
+    const glm::vec3 dir = c.target - c.position;
+    if (glm::dot(dir, dir) == 0.0f) fail("scene '{}': camera target equals its position", name);
+    const glm::vec3 side = glm::cross(dir, c.up);
+    if (glm::dot(side, side) == 0.0f)
+        fail("scene '{}': camera up vector is zero or parallel to the view direction", name);
+}
+
+} // namespace wp

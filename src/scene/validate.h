@@ -1,0 +1,17 @@
+// validate.h — checks that a Scene is safe to build a BVH over and upload.
+//
+// Loaders call validate_scene before returning; code that builds scenes by hand should
+// too. It throws wp::Error naming the scene and the first problem found: a vertex index
+// out of range, a non-finite position, a material id out of range or a missing one, no
+// triangles at all, an invalid material (albedo outside [0, 1], negative or non-finite
+// emission, negative exponent) or an unusable camera. Degenerate (zero-area) triangles are
+// allowed: real scenes have them and the traversal must cope.
+#pragma once
+
+#include "scene/scene.h"
+
+namespace wp {
+
+void validate_scene(const Scene& scene);
+
+} // namespace wp
