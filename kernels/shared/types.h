@@ -78,7 +78,73 @@ typedef struct TraceStats {
     X(sizeof(Triangle)) X(__builtin_offsetof(Triangle, v1)) X(__builtin_offsetof(Triangle, v2)) \
     X(sizeof(BvhNode)) X(__builtin_offsetof(BvhNode, y)) X(__builtin_offsetof(BvhNode, z)) \
     X(sizeof(BvhLinks)) X(__builtin_offsetof(BvhLinks, child1))                           \
-    X(__builtin_offsetof(BvhLinks, parent)) X(sizeof(TraceStats))
+    X(__builtin_offsetof(BvhLinks, parent)) X(sizeof(TraceStats))                        \
+    /* Render stage types */                                                              \
+    X(sizeof(CameraData)) X(__builtin_offsetof(CameraData, forward))                      \
+    X(__builtin_offsetof(CameraData, up)) X(__builtin_offsetof(CameraData, width))        \
+    X(__builtin_offsetof(CameraData, jitter)) X(sizeof(MaterialData))                     \
+    X(__builtin_offsetof(MaterialData, emission)) X(__builtin_offsetof(MaterialData, kind)) \
+    X(sizeof(PathState)) X(__builtin_offsetof(PathState, pixel))                          \
+    X(__builtin_offsetof(PathState, flags)) X(sizeof(FilmPixel))                          \
+    X(__builtin_offsetof(FilmPixel, comp))
+
+// ===================================================================================
+// Render stage types (generate / shade / accumulate; see kernels/*.cl and src/render/)
+// ===================================================================================
+
+// Pinhole camera as the generate stage reads it (built by scene/upload). 80 bytes.
+// The ray through image position (px, py) in pixels (0,0 = top-left corner of the image)
+// has direction forward + ((2 px / width) - 1) * right + (1 - (2 py / height)) * up.
+typedef struct CameraData {
+    float4 origin;   // xyz: eye position (world units); w: 0
+    float4 forward;  // xyz: unit viewing direction (image centre); w: 0
+    float4 right;    // xyz: unit right * tan(vfov / 2) * width / height; w: 0
+    float4 up;       // xyz: unit up (orthogonal to forward) * tan(vfov / 2); w: 0
+    int width;       // image width, pixels
+    int height;      // image height, pixels
+    int jitter;      // 1: uniform random position inside the pixel; 0: pixel centre
+    int pad;         // 0
+} CameraData;
+
+// Material kinds (MaterialData.kind); the values match wp::MaterialKind on the host.
+#define WP_MATERIAL_DIFFUSE 0
+#define WP_MATERIAL_MIRROR 1
+#define WP_MATERIAL_GLOSSY 2
+
+// A material as the shade stage reads it. 48 bytes.
+typedef struct MaterialData {
+    float4 albedo;    // xyz: reflectance in [0, 1] per channel; w: glossy Phong exponent
+    float4 emission;  // xyz: emitted radiance (W sr^-1 m^-2), front side only; w: 0
+    int kind;         // WP_MATERIAL_*
+    int pad0;         // 0
+    int pad1;         // 0
+    int pad2;         // 0
+} MaterialData;
+
+// One path of the current wavefront, stored in a queue slot next to its ray. 32 bytes.
+// Results go to per-pixel buffers indexed by `pixel`, never by the slot, so the image does
+// not depend on the order in which paths were pushed.
+typedef struct PathState {
+    float4 throughput;  // xyz: path throughput (product of BSDF * cos / pdf, unitless); w: 0
+    int pixel;          // pixel index y * width + x
+    int bounce;         // surface interactions so far (0 for camera rays)
+    int flags;          // reserved (0); later: last bounce was specular, for MIS
+    int pad;            // 0
+} PathState;
+
+// Accumulated sum of one film pixel: per channel a double-float pair (hi, lo) whose value
+// is sum + comp, kept normalised (|comp| <= ulp(sum) / 2) by film.h (Joldes, Muller &
+// Popescu 2017, DWPlusFP). 32 bytes.
+typedef struct FilmPixel {
+    float4 sum;   // xyz: high word of the running sum of radiance samples; w: 0
+    float4 comp;  // xyz: low word (the rounding error of sum); w: 0
+} FilmPixel;
+
+// Slots of the counters buffer (int[WP_COUNTER_COUNT]): non-finite values caught per stage.
+#define WP_COUNTER_GENERATE_NONFINITE 0  // camera rays with a NaN/Inf direction (dropped)
+#define WP_COUNTER_SHADE_NONFINITE 1     // NaN/Inf emission or throughput (path ended)
+#define WP_COUNTER_ACCUMULATE_NONFINITE 2  // NaN/Inf frame radiance (sample dropped)
+#define WP_COUNTER_COUNT 8
 
 WP_NAMESPACE_END
 
@@ -90,6 +156,12 @@ static_assert(sizeof(wp::Triangle) == 48 && offsetof(wp::Triangle, v2) == 32);
 static_assert(sizeof(wp::BvhNode) == 48 && offsetof(wp::BvhNode, z) == 32);
 static_assert(sizeof(wp::BvhLinks) == 16 && offsetof(wp::BvhLinks, parent) == 8);
 static_assert(sizeof(wp::TraceStats) == 8);
+static_assert(sizeof(wp::CameraData) == 80 && offsetof(wp::CameraData, width) == 64 &&
+              offsetof(wp::CameraData, jitter) == 72);
+static_assert(sizeof(wp::MaterialData) == 48 && offsetof(wp::MaterialData, kind) == 32);
+static_assert(sizeof(wp::PathState) == 32 && offsetof(wp::PathState, pixel) == 16 &&
+              offsetof(wp::PathState, flags) == 24);
+static_assert(sizeof(wp::FilmPixel) == 32 && offsetof(wp::FilmPixel, comp) == 16);
 #endif
 
 #endif  // WP_TYPES_H

@@ -3,6 +3,7 @@
 
 #include <CL/opencl.hpp>
 
+#include <algorithm>
 #include <cstdint>
 #include <string>
 #include <vector>
@@ -44,6 +45,22 @@ struct Device {
     // Throws wp::Error when `bytes` exceed what the device can hold, naming `what`.
     void check_alloc(std::uint64_t bytes, const std::string& what) const;
 };
+
+// A read-only device buffer holding a copy of `v` (one zeroed element when `v` is empty:
+// OpenCL has no empty buffers). Throws wp::Error naming `what` when the device lacks room.
+template <typename T>
+::cl::Buffer upload_buffer(const Device& dev, const std::vector<T>& v, const char* what) {
+    std::size_t bytes = std::max<std::size_t>(v.size(), 1) * sizeof(T);
+    dev.check_alloc(bytes, what);
+    ::cl::Buffer b(dev.context, CL_MEM_READ_ONLY, bytes);
+    if (v.empty()) {
+        T zero{};
+        dev.queue.enqueueWriteBuffer(b, CL_TRUE, 0, sizeof(T), &zero);
+    } else {
+        dev.queue.enqueueWriteBuffer(b, CL_TRUE, 0, bytes, v.data());
+    }
+    return b;
+}
 
 // "1.5 GiB"-style rendering of a byte count.
 std::string format_bytes(std::uint64_t bytes);

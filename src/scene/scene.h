@@ -49,6 +49,9 @@ struct Scene {
     std::vector<Material> materials;
     Camera camera;
     glm::vec3 background{0.0f};  // radiance of rays that leave the scene
+    // Non-fatal problems met while building or loading the scene (e.g. triangles without a
+    // material), one line each, for the caller to print; empty when all went well.
+    std::vector<std::string> warnings;
 
     std::size_t triangle_count() const { return triangles.size(); }
     Aabb bounds() const;

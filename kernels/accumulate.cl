@@ -1,0 +1,20 @@
+// accumulate.cl — the accumulate stage: adds the frame's radiance into the film.
+//
+// reads   radiance[p] (this frame's sample of pixel p, written by generate and shade)
+// writes  film[p] (FilmPixel: double-float running sum, film.h), counters
+//         [WP_COUNTER_ACCUMULATE_NONFINITE] when a sample is NaN/Inf (it is dropped, so
+//         NaN/Inf never reach the film)
+// pushes  nothing. Launched over the pixel count; the host divides by the sample count.
+#include "shared/film.h"
+
+__kernel void accumulate_film(__global const float4* radiance, int pixel_count,
+                              __global FilmPixel* film, __global int* counters) {
+    int p = wp_global_id();
+    if (p >= pixel_count) return;
+    float3 x = wp_xyz(radiance[p]);
+    if (!wp_all_finite3(x)) {
+        atomic_inc(&counters[WP_COUNTER_ACCUMULATE_NONFINITE]);
+        return;
+    }
+    film[p] = wp_film_add(film[p], x);
+}

@@ -1,0 +1,61 @@
+// rng.h — counter-based random numbers: every value is a pure function of its key.
+//
+// A sample's random numbers are keyed by (seed, pixel, sample index, bounce, dimension
+// group), so any path can be reproduced alone and the image does not depend on the order
+// in which work-items run or paths sit in a queue. The hash is pcg4d from Jarzynski &
+// Olano, "Hash Functions for GPU Rendering", JCGT 9(3), 2020 (their best quality/speed
+// trade-off for 4D input): one call turns a 4D key into four well-mixed 32-bit words.
+// Unsigned arithmetic wraps modulo 2^32 on every backend, so host and device agree bit for
+// bit and tests can reproduce a kernel's random numbers on the host.
+#ifndef WP_RNG_H
+#define WP_RNG_H
+
+#include "compat.h"
+
+WP_NAMESPACE_BEGIN
+
+// Dimension groups (4 numbers each) within one bounce. New consumers take new groups.
+#define WP_RNG_CAMERA 0    // bounce 0 only: (pixel jitter x, y, unused, unused)
+#define WP_RNG_BSDF 1      // direction sampling at a surface: (u1, u2, lobe choice, unused)
+#define WP_RNG_GROUPS 16   // groups per bounce (the key packs bounce * 16 + group)
+
+typedef struct Rng4 {
+    uint x, y, z, w;
+} Rng4;
+
+// pcg4d (Jarzynski & Olano 2020, listing in section 4): an LCG step per lane, then two
+// rounds of cross-lane multiply-adds around an xorshift.
+WP_FN Rng4 wp_pcg4d(uint a, uint b, uint c, uint d) {
+    Rng4 v;
+    v.x = a * 1664525u + 1013904223u;
+    v.y = b * 1664525u + 1013904223u;
+    v.z = c * 1664525u + 1013904223u;
+    v.w = d * 1664525u + 1013904223u;
+    v.x += v.y * v.w;
+    v.y += v.z * v.x;
+    v.z += v.x * v.y;
+    v.w += v.y * v.z;
+    v.x ^= v.x >> 16;
+    v.y ^= v.y >> 16;
+    v.z ^= v.z >> 16;
+    v.w ^= v.w >> 16;
+    v.x += v.y * v.w;
+    v.y += v.z * v.x;
+    v.z += v.x * v.y;
+    v.w += v.y * v.z;
+    return v;
+}
+
+// A uniform float in [0, 1) from the top 24 bits of a word (exactly representable).
+WP_FN float wp_uint_to_unit(uint x) { return (float)(x >> 8) * (1.0f / 16777216.0f); }
+
+// Four uniform numbers in [0, 1) for (seed, pixel, sample, bounce, group).
+WP_FN float4 wp_rng4(uint seed, uint pixel, uint sample, uint bounce, uint group) {
+    Rng4 r = wp_pcg4d(pixel, sample, bounce * (uint)WP_RNG_GROUPS + group, seed);
+    return make_float4(wp_uint_to_unit(r.x), wp_uint_to_unit(r.y), wp_uint_to_unit(r.z),
+                       wp_uint_to_unit(r.w));
+}
+
+WP_NAMESPACE_END
+
+#endif  // WP_RNG_H

@@ -1,0 +1,96 @@
+// wavefront.h — the wavefront path tracer: device buffers, programs and the frame loop.
+//
+// One frame is one sample per pixel (DESIGN.md):
+//   generate ─► [ intersect.closest ─► queue.reset ─► shade ] × (depth + 1) ─► accumulate
+// Bounce b = 0 traces the camera rays; shade at bounce b adds emission (or background)
+// and, while b < depth, scatters and pushes survivors into the other queue. So `depth` is
+// the number of bounces (scattering events) a path may make: depth 0 shows emitters and
+// background only, depth D gathers light that reached the camera after at most D bounces
+// (as pbrt's maxdepth). Queues are launched at capacity and read their length on the
+// device; the host never reads counts back inside a frame.
+//
+// Programs and buffers are created once in the constructor; enqueue_frame() only sets
+// arguments and enqueues. Every launch is named and profiled (cl/profiler.h).
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <string>
+
+#include <CL/opencl.hpp>
+
+#include "bvh/device_bvh.h"
+#include "cl/device.h"
+#include "cl/profiler.h"
+#include "cl/program.h"
+#include "image/image.h"
+#include "render/kernel_config.h"
+#include "scene/scene.h"
+#include "shared/types.h"
+
+namespace wp::render {
+
+struct RenderSettings {
+    int width = 800;           // pixels
+    int height = 600;
+    int depth = 3;             // maximum number of bounces (see above)
+    std::uint32_t seed = 0;    // random stream; the same seed gives the same image
+    bool jitter = true;        // random position inside each pixel (false: pixel centres)
+};
+
+struct SceneStats {
+    std::size_t triangles = 0;
+    std::size_t vertices = 0;
+    std::size_t materials = 0;
+    std::size_t emissive_materials = 0;
+    std::size_t bvh_nodes = 0;  // interior nodes of the flattened BVH
+    int bvh_depth = 0;
+    double bvh_build_ms = 0.0;
+    double upload_ms = 0.0;     // flatten + upload + buffer creation
+    double program_ms = 0.0;    // all program builds (or cache loads)
+};
+
+class Wavefront {
+  public:
+    Wavefront(ocl::Device& dev, const Scene& scene, const RenderSettings& settings);
+
+    // Enqueues one frame (one sample per pixel) and returns the event of its last launch.
+    ::cl::Event enqueue_frame();
+
+    int frames() const { return frames_; }
+    int pixel_count() const { return settings_.width * settings_.height; }
+    const RenderSettings& settings() const { return settings_; }
+    const KernelConfig& config() const { return config_; }
+    const std::string& options() const { return options_; }
+    const SceneStats& stats() const { return stats_; }
+    ocl::Profiler& profiler() { return profiler_; }
+    ocl::Device& device() { return dev_; }
+
+    // Blocking reads (call between frames, not inside the loop's hot path).
+    Image resolve();                                    // film sum / frames, linear RGB
+    std::array<int, WP_COUNTER_COUNT> counters();       // non-finite values per stage
+    std::uint64_t rays_traced();                        // all rays traced so far
+    std::vector<FilmPixel> film();                      // the raw film
+
+  private:
+    ocl::Device& dev_;
+    RenderSettings settings_;
+    KernelConfig config_;
+    std::string options_;
+    SceneStats stats_;
+    ocl::Profiler profiler_;
+    int frames_ = 0;
+
+    CameraData camera_{};
+    float4 background_{};
+    ocl::Program generate_prog_, intersect_prog_, shade_prog_, accumulate_prog_;
+    ::cl::Kernel generate_, intersect_, reset_, shade_, accumulate_;
+    // Scene.
+    bvh::DeviceBvh bvh_;
+    ::cl::Buffer tris_, material_ids_, materials_;
+    // Wavefront state: two ray/path queues with their lengths, hits, per-pixel radiance.
+    ::cl::Buffer rays_[2], paths_[2], count_[2], hits_, radiance_;
+    ::cl::Buffer film_, counters_, ray_total_;
+};
+
+}  // namespace wp::render

@@ -1,0 +1,69 @@
+#include "scene/upload.h"
+
+#include <cmath>
+
+#include "util/error.h"
+
+namespace wp {
+
+namespace {
+
+float4 row(const glm::vec3& v, float w = 0.0f) { return {v.x, v.y, v.z, w}; }
+
+}  // namespace
+
+SceneUpload upload_scene(const Scene& scene) {
+    SceneUpload up;
+    if (scene.material_ids.size() != scene.triangles.size())
+        fail("scene '{}': {} material ids for {} triangles", scene.name, scene.material_ids.size(),
+             scene.triangles.size());
+    up.triangles.reserve(scene.triangles.size());
+    for (std::size_t i = 0; i < scene.triangles.size(); ++i) {
+        const glm::uvec3& t = scene.triangles[i];
+        for (int k = 0; k < 3; ++k)
+            if (t[k] >= scene.positions.size())
+                fail("scene '{}': triangle {} uses vertex {}, but there are {} vertices", scene.name,
+                     i, t[k], scene.positions.size());
+        up.triangles.push_back({row(scene.positions[t.x]), row(scene.positions[t.y]),
+                                row(scene.positions[t.z])});
+        if (scene.material_ids[i] >= scene.materials.size())
+            fail("scene '{}': triangle {} uses material {}, but there are {} materials", scene.name,
+                 i, scene.material_ids[i], scene.materials.size());
+        up.material_ids.push_back(static_cast<int>(scene.material_ids[i]));
+    }
+    for (const Material& m : scene.materials) {
+        MaterialData d{};
+        d.albedo = row(m.albedo, m.kind == MaterialKind::Glossy ? m.exponent : 0.0f);
+        d.emission = row(m.emission);
+        d.kind = static_cast<int>(m.kind);
+        up.materials.push_back(d);
+    }
+    up.background = row(scene.background);
+    return up;
+}
+
+CameraData upload_camera(const Camera& camera, int width, int height, bool jitter) {
+    if (width <= 0 || height <= 0) fail("image size {}x{} must be positive", width, height);
+    glm::vec3 view = camera.target - camera.position;
+    if (glm::length(view) == 0.0f) fail("camera: position and target coincide");
+    glm::vec3 forward = glm::normalize(view);
+    glm::vec3 right = glm::cross(forward, camera.up);
+    if (glm::length(right) < 1e-6f) fail("camera: the up vector is parallel to the view direction");
+    right = glm::normalize(right);
+    glm::vec3 up = glm::cross(right, forward);
+    if (!(camera.vfov_deg > 0.0f && camera.vfov_deg < 180.0f))
+        fail("camera: vertical field of view {} degrees is outside (0, 180)", camera.vfov_deg);
+    float tan_half = std::tan(glm::radians(camera.vfov_deg) * 0.5f);
+    float aspect = static_cast<float>(width) / static_cast<float>(height);
+    CameraData c{};
+    c.origin = row(camera.position);
+    c.forward = row(forward);
+    c.right = row(right * (tan_half * aspect));
+    c.up = row(up * tan_half);
+    c.width = width;
+    c.height = height;
+    c.jitter = jitter ? 1 : 0;
+    return c;
+}
+
+}  // namespace wp

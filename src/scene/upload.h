@@ -1,0 +1,30 @@
+// upload.h — the host Scene turned into the plain-data layouts of kernels/shared/types.h.
+//
+// With bvh/flatten this is the only place where host types (GLM, Scene) become device
+// types. Everything is returned as host vectors of device structs; render/ creates the
+// OpenCL buffers, so scene/ stays free of OpenCL.
+#pragma once
+
+#include <vector>
+
+#include "scene/scene.h"
+#include "shared/types.h"
+
+namespace wp {
+
+struct SceneUpload {
+    std::vector<Triangle> triangles;       // original triangle order (shade reads them by prim)
+    std::vector<int> material_ids;         // one per triangle
+    std::vector<MaterialData> materials;
+    float4 background{0.0f, 0.0f, 0.0f, 0.0f};  // xyz: radiance of escaped rays
+};
+
+// Throws wp::Error when a triangle's material id or vertex index is out of range.
+SceneUpload upload_scene(const Scene& scene);
+
+// The pinhole camera for a width x height image (throws wp::Error for a degenerate camera:
+// position == target, up parallel to the view direction, or a field of view outside
+// (0, 180) degrees).
+CameraData upload_camera(const Camera& camera, int width, int height, bool jitter);
+
+}  // namespace wp

@@ -1,0 +1,110 @@
+// test_render.cpp — the whole wavefront loop, end to end, against analytic answers.
+#include <catch2/catch.hpp>
+
+#include <cmath>
+#include <cstring>
+#include <vector>
+
+#include "render/loop.h"
+#include "render/wavefront.h"
+#include "scene/builtin.h"
+#include "support.h"
+
+using namespace wp;
+
+namespace {
+
+struct Rendered {
+    Image image;
+    std::vector<FilmPixel> film;
+    std::array<int, WP_COUNTER_COUNT> counters;
+    std::uint64_t rays = 0;
+};
+
+Rendered render_scene(const Scene& scene, int w, int h, int spp, int depth, std::uint32_t seed) {
+    render::RenderSettings s;
+    s.width = w;
+    s.height = h;
+    s.depth = depth;
+    s.seed = seed;
+    render::Wavefront wf(test::device(), scene, s);
+    render::LoopOptions lo;
+    lo.spp = spp;
+    render::render_frames(wf, lo, nullptr);
+    return {wf.resolve(), wf.film(), wf.counters(), wf.rays_traced()};
+}
+
+}  // namespace
+
+// Inside a closed box whose walls all emit Le (towards the inside) and reflect diffusely
+// with albedo ρ, every path sees Le at each of its 1 + D surface hits, weighted by the
+// product of its BSDF weights, whose expectation is ρ per bounce. So every pixel's
+// expected value is Le (1 + ρ + ... + ρ^D), whatever the geometry and camera.
+TEST_CASE("render: closed furnace box converges to Le (1 + rho + ... + rho^D)", "[render]") {
+    const float le = 0.5f, rho = 0.6f;
+    Scene scene = make_closed_box_furnace(le, rho);
+    const int w = 64, h = 48;
+    for (int depth : {0, 1, 3}) {
+        Rendered r = render_scene(scene, w, h, 8, depth, 42);
+        double expected = 0, term = le;
+        for (int k = 0; k <= depth; ++k, term *= rho) expected += term;
+        // Standard error from the image itself: every pixel has the same expectation, so the
+        // spread of the pixel means across the image estimates the error of their average.
+        const int n = w * h;
+        for (int ch = 0; ch < 3; ++ch) {
+            double sum = 0, sum2 = 0;
+            for (int i = 0; i < n; ++i) {
+                double v = r.image.rgb[3 * i + ch];
+                sum += v;
+                sum2 += v * v;
+            }
+            double mean = sum / n;
+            double var = std::max(0.0, (sum2 - n * mean * mean) / (n - 1));
+            double se = std::sqrt(var / n);
+            INFO("depth " << depth << " channel " << ch << ": mean " << mean << " expected "
+                          << expected << " standard error " << se);
+            if (depth == 0) {
+                CHECK(mean == Approx(expected).epsilon(1e-6));  // no randomness at depth 0
+                CHECK(se < 1e-7);
+            } else {
+                CHECK(std::abs(mean - expected) < 4.0 * se);
+                CHECK(se < 0.01 * expected);  // the test has power
+            }
+        }
+        CHECK(r.counters[WP_COUNTER_SHADE_NONFINITE] == 0);
+        CHECK(r.counters[WP_COUNTER_ACCUMULATE_NONFINITE] == 0);
+        // Nothing escapes and every diffuse bounce survives (weight 2ρ cos θ > 0): every
+        // queue is full, so the ray count is exact.
+        CHECK(r.rays == std::uint64_t(n) * 8 * (depth + 1));
+    }
+}
+
+TEST_CASE("render: the same seed gives a bit-identical image, another seed another one",
+          "[render]") {
+    Scene scene = make_cornell_box(2000);
+    Rendered a = render_scene(scene, 64, 48, 4, 3, 7);
+    Rendered b = render_scene(scene, 64, 48, 4, 3, 7);
+    Rendered c = render_scene(scene, 64, 48, 4, 3, 8);
+    REQUIRE(a.film.size() == b.film.size());
+    CHECK(std::memcmp(a.film.data(), b.film.data(), a.film.size() * sizeof(FilmPixel)) == 0);
+    CHECK(a.rays == b.rays);
+    int differ = 0;
+    for (std::size_t i = 0; i < a.image.rgb.size(); ++i) differ += a.image.rgb[i] != c.image.rgb[i];
+    CHECK(differ > 100);
+    // The Cornell box has light: the image is not black.
+    double sum = 0;
+    for (float v : a.image.rgb) sum += v;
+    CHECK(sum > 0.0);
+}
+
+TEST_CASE("render: kernel options follow the scene's materials", "[render]") {
+    Scene furnace = make_closed_box_furnace(1.0f, 0.5f);
+    auto cfg = render::KernelConfig::from_scene(furnace);
+    CHECK(cfg.diffuse);
+    CHECK_FALSE(cfg.mirror);
+    CHECK_FALSE(cfg.glossy);
+    CHECK(cfg.emission);
+    CHECK(cfg.options().find("-D WP_HAVE_MIRROR=0") != std::string::npos);
+    auto box = render::KernelConfig::from_scene(make_cornell_box(200));
+    CHECK((box.diffuse && box.mirror && box.glossy && box.emission));
+}

@@ -1,0 +1,132 @@
+// test_render_cli.cpp — `wavepath render` as a user runs it: bad input fails cleanly.
+//
+// Each case runs the real binary (WP_CLI_PATH) in a fresh temporary folder, and checks the
+// exit status, the message on stderr and that no image (render.exr / render.png / the -o
+// file) is left behind.
+#include <catch2/catch.hpp>
+
+#include <sys/wait.h>
+
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <string>
+
+#include <nlohmann/json.hpp>
+
+using namespace std::string_literals;
+namespace fs = std::filesystem;
+
+namespace {
+
+struct Run {
+    int status = -1;
+    std::string err;
+};
+
+struct TempDir {
+    fs::path path;
+    TempDir() {
+        static int k = 0;
+        path = fs::temp_directory_path() / ("wp-cli-test-" + std::to_string(::getpid()) + "-" + std::to_string(k++));
+        fs::remove_all(path);
+        fs::create_directories(path);
+    }
+    ~TempDir() { fs::remove_all(path); }
+    bool empty_of_images() const {
+        for (auto& e : fs::directory_iterator(path)) {
+            auto ext = e.path().extension();
+            if (ext == ".exr" || ext == ".png" || ext == ".jpg") return false;
+        }
+        return true;
+    }
+};
+
+Run run_cli(const TempDir& dir, const std::string& args) {
+    fs::path err = dir.path / "stderr.txt";
+    std::string cmd = "cd '" + dir.path.string() + "' && '" WP_CLI_PATH "' render " + args +
+                      " > /dev/null 2> '" + err.string() + "'";
+    int rc = std::system(cmd.c_str());
+    Run r;
+    r.status = WIFEXITED(rc) ? WEXITSTATUS(rc) : -1;
+    std::ifstream in(err);
+    std::stringstream ss;
+    ss << in.rdbuf();
+    r.err = ss.str();
+    return r;
+}
+
+}  // namespace
+
+TEST_CASE("render CLI: a missing scene file fails with a clear message", "[render][cli]") {
+    TempDir d;
+    Run r = run_cli(d, "no-such-scene.obj");
+    INFO(r.err);
+    CHECK(r.status != 0);
+    CHECK(r.err.find("no-such-scene.obj") != std::string::npos);
+    CHECK(r.err.find("not found") != std::string::npos);
+    CHECK(d.empty_of_images());
+}
+
+TEST_CASE("render CLI: an OBJ with a bad face index fails and writes nothing", "[render][cli]") {
+    TempDir d;
+    std::ofstream(d.path / "bad.obj") << "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 9\n";
+    Run r = run_cli(d, "bad.obj --spp 1");
+    INFO(r.err);
+    CHECK(r.status != 0);
+    CHECK(r.err.find("bad.obj") != std::string::npos);
+    CHECK(r.err.find("out of range") != std::string::npos);
+    CHECK(d.empty_of_images());
+}
+
+TEST_CASE("render CLI: an unwritable output path fails before rendering", "[render][cli]") {
+    TempDir d;
+    Run r = run_cli(d, "-o /nonexistent-dir/x.png --size 16x12 --spp 1");
+    INFO(r.err);
+    CHECK(r.status != 0);
+    CHECK(r.err.find("/nonexistent-dir") != std::string::npos);
+    CHECK(r.err.find("does not exist") != std::string::npos);
+    CHECK(d.empty_of_images());
+    CHECK_FALSE(fs::exists("/nonexistent-dir/x.png"));
+    Run e = run_cli(d, "-o out.tiff --size 16x12 --spp 1");
+    CHECK(e.status != 0);
+    CHECK(e.err.find("extension") != std::string::npos);
+    CHECK(d.empty_of_images());
+}
+
+TEST_CASE("render CLI: invalid options are rejected with a message", "[render][cli]") {
+    TempDir d;
+    for (const char* args : {"--spp 0", "--depth -1", "--size 0x10", "--size 64by48", "--time -2"}) {
+        Run r = run_cli(d, args);
+        INFO(args << ": " << r.err);
+        CHECK(r.status != 0);
+        CHECK(r.err.size() > 10);
+        CHECK(d.empty_of_images());
+    }
+}
+
+TEST_CASE("render CLI: a small render writes only the -o file and the profile", "[render][cli]") {
+    TempDir d;
+    Run r = run_cli(d, "--size 32x24 --spp 2 --depth 2 -q -o out.exr --profile prof.json");
+    INFO(r.err);
+    REQUIRE(r.status == 0);
+    CHECK(fs::exists(d.path / "out.exr"));
+    CHECK_FALSE(fs::exists(d.path / "render.exr"));
+    CHECK_FALSE(fs::exists(d.path / "render.png"));
+    REQUIRE(fs::exists(d.path / "prof.json"));
+    REQUIRE(fs::exists(d.path / "prof.trace.json"));
+    auto j = nlohmann::json::parse(std::ifstream(d.path / "prof.json"));
+    CHECK(j["frames"] == 2);
+    CHECK(j["frame_ms"].size() == 2);
+    CHECK(j["scene"]["triangles"].get<int>() > 1000);
+    CHECK(j.contains("device"));
+    bool has_intersect = false;
+    for (auto& s : j["stages"]) has_intersect |= s["name"] == "intersect.closest";
+    CHECK(has_intersect);
+    auto t = nlohmann::json::parse(std::ifstream(d.path / "prof.trace.json"));
+    // 2 frames x (generate + 3 x (intersect, reset, shade) + accumulate) complete events.
+    int complete = 0;
+    for (auto& e : t["traceEvents"]) complete += e["ph"] == "X";
+    CHECK(complete == 2 * (1 + 3 * 3 + 1));
+}

@@ -1,0 +1,401 @@
+// test_shade.cpp — the shade stage alone, on hand-built hits.
+//
+// Emission, throughput, pushed rays and the queue compaction are checked against values
+// worked out by hand; the diffuse and glossy direction densities by χ² goodness-of-fit
+// tests (1e6 directions drawn by shade_surface itself, bins with < 5 expected merged,
+// α = 0.01), whose expected bin probabilities come from numerical integration of the
+// stated densities written here from scratch (pbrt-v4's bsdfs_test.cpp does the same).
+#include <catch2/catch.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <numeric>
+#include <vector>
+
+#include <glm/glm.hpp>
+
+#include "cl/profiler.h"
+#include "cl/program.h"
+#include "shared/types.h"
+#include "support.h"
+
+using namespace wp;
+
+namespace {
+
+struct ShadeCase {
+    std::vector<Ray> rays;
+    std::vector<PathState> paths;
+    std::vector<Hit> hits;
+    std::vector<Triangle> tris;
+    std::vector<int> material_ids;
+    std::vector<MaterialData> materials;
+    float4 background{0, 0, 0, 0};
+    cl_uint seed = 1, sample = 0;
+    int bounce = 0, max_depth = 5;
+    int pixels = 0;  // radiance buffer size (> every path's pixel)
+};
+
+struct ShadeOut {
+    std::vector<float4> radiance;
+    std::vector<Ray> rays;
+    std::vector<PathState> paths;
+    int count = 0;
+    std::vector<int> counters;
+};
+
+template <typename T>
+cl::Buffer upload(const std::vector<T>& v) {
+    auto& dev = test::device();
+    return cl::Buffer(dev.context, CL_MEM_READ_WRITE | CL_MEM_COPY_HOST_PTR,
+                      std::max<std::size_t>(1, v.size()) * sizeof(T), const_cast<T*>(v.data()));
+}
+
+ShadeOut run_shade(const ShadeCase& c) {
+    auto& dev = test::device();
+    static ocl::Program prog = ocl::Program::build(dev, "shade.cl");  // generic: every kind
+    auto k = prog.kernel("shade_surface");
+    std::size_t n = c.rays.size();
+    int count_in = static_cast<int>(n), zero = 0;
+    std::vector<float4> rad(c.pixels, float4{0, 0, 0, 0});
+    std::vector<int> cnt(WP_COUNTER_COUNT, 0);
+    cl::Buffer b_rays = upload(c.rays), b_paths = upload(c.paths), b_hits = upload(c.hits);
+    cl::Buffer b_count_in = upload(std::vector<int>{count_in});
+    cl::Buffer b_tris = upload(c.tris), b_mid = upload(c.material_ids), b_mat = upload(c.materials);
+    cl::Buffer b_rad = upload(rad), b_cnt = upload(cnt);
+    cl::Buffer b_rays_out(dev.context, CL_MEM_READ_WRITE, std::max<std::size_t>(n, 1) * sizeof(Ray));
+    cl::Buffer b_paths_out(dev.context, CL_MEM_READ_WRITE, std::max<std::size_t>(n, 1) * sizeof(PathState));
+    cl::Buffer b_count_out = upload(std::vector<int>{zero});
+    int a = 0;
+    k.setArg(a++, b_rays);
+    k.setArg(a++, b_paths);
+    k.setArg(a++, b_hits);
+    k.setArg(a++, b_count_in);
+    k.setArg(a++, b_tris);
+    k.setArg(a++, b_mid);
+    k.setArg(a++, b_mat);
+    k.setArg(a++, c.background);
+    k.setArg(a++, c.seed);
+    k.setArg(a++, c.sample);
+    k.setArg(a++, c.bounce);
+    k.setArg(a++, c.max_depth);
+    k.setArg(a++, b_rad);
+    k.setArg(a++, b_rays_out);
+    k.setArg(a++, b_paths_out);
+    k.setArg(a++, b_count_out);
+    k.setArg(a++, b_cnt);
+    ocl::launch(dev.queue, k, "shade", n);
+    ShadeOut o;
+    dev.queue.enqueueReadBuffer(b_count_out, CL_TRUE, 0, sizeof(int), &o.count);
+    o.radiance.resize(c.pixels);
+    o.counters.resize(WP_COUNTER_COUNT);
+    o.rays.resize(o.count);
+    o.paths.resize(o.count);
+    dev.queue.enqueueReadBuffer(b_rad, CL_TRUE, 0, c.pixels * sizeof(float4), o.radiance.data());
+    dev.queue.enqueueReadBuffer(b_cnt, CL_TRUE, 0, WP_COUNTER_COUNT * sizeof(int), o.counters.data());
+    if (o.count > 0) {
+        dev.queue.enqueueReadBuffer(b_rays_out, CL_TRUE, 0, o.count * sizeof(Ray), o.rays.data());
+        dev.queue.enqueueReadBuffer(b_paths_out, CL_TRUE, 0, o.count * sizeof(PathState), o.paths.data());
+    }
+    return o;
+}
+
+// The unit right triangle in the plane z = 0, counter-clockwise seen from +z: its front
+// normal is +z. A hit with barycentrics (u, v) = (0.25, 0.25) is at (0.25, 0.25, 0).
+Triangle floor_triangle() { return {{0, 0, 0, 0}, {1, 0, 0, 0}, {0, 1, 0, 0}}; }
+
+MaterialData material(int kind, glm::vec3 albedo, glm::vec3 emission = glm::vec3(0), float exponent = 0) {
+    MaterialData m{};
+    m.albedo = {albedo.x, albedo.y, albedo.z, exponent};
+    m.emission = {emission.x, emission.y, emission.z, 0};
+    m.kind = kind;
+    return m;
+}
+
+// One path per entry: ray from `from` towards (0.25, 0.25, 0) with throughput `beta`.
+void add_path(ShadeCase& c, glm::vec3 dir, glm::vec3 beta, int pixel, bool miss = false) {
+    glm::vec3 d = glm::normalize(dir);
+    glm::vec3 o = glm::vec3(0.25f, 0.25f, 0.0f) - d * 2.0f;
+    c.rays.push_back(test::make_ray(o, d));
+    PathState p{};
+    p.throughput = {beta.x, beta.y, beta.z, 0};
+    p.pixel = pixel;
+    p.bounce = c.bounce;
+    c.paths.push_back(p);
+    c.hits.push_back(miss ? Hit{FLT_MAX, -1, 0, 0} : Hit{2.0f, 0, 0.25f, 0.25f});
+    c.pixels = std::max(c.pixels, pixel + 1);
+}
+
+ShadeCase single_triangle(MaterialData m) {
+    ShadeCase c;
+    c.tris = {floor_triangle()};
+    c.material_ids = {0};
+    c.materials = {m};
+    return c;
+}
+
+glm::vec3 v3(float4 v) { return {v.x, v.y, v.z}; }
+
+// Regularised upper incomplete gamma Q(a, x) (Numerical Recipes, 3rd ed., 6.2: series for
+// x < a + 1, continued fraction otherwise); the χ² p-value is Q(dof / 2, χ² / 2).
+double gamma_q(double a, double x) {
+    if (x <= 0.0) return 1.0;
+    double gln = std::lgamma(a);
+    if (x < a + 1.0) {
+        double ap = a, sum = 1.0 / a, del = sum;
+        for (int n = 0; n < 10000; ++n) {
+            ap += 1.0;
+            del *= x / ap;
+            sum += del;
+            if (std::abs(del) < std::abs(sum) * 1e-15) break;
+        }
+        return 1.0 - sum * std::exp(-x + a * std::log(x) - gln);
+    }
+    double b = x + 1.0 - a, c = 1.0 / 1e-300, d = 1.0 / b, h = d;
+    for (int i = 1; i < 10000; ++i) {
+        double an = -i * (i - a);
+        b += 2.0;
+        d = an * d + b;
+        if (std::abs(d) < 1e-300) d = 1e-300;
+        c = b + an / c;
+        if (std::abs(c) < 1e-300) c = 1e-300;
+        d = 1.0 / d;
+        double del = d * c;
+        h *= del;
+        if (std::abs(del - 1.0) < 1e-15) break;
+    }
+    return std::exp(-x + a * std::log(x) - gln) * h;
+}
+
+// χ² test of observed against expected counts; bins with expected < 5 are pooled (pbrt).
+// Returns the p-value.
+double chi2_pvalue(const std::vector<double>& observed, const std::vector<double>& expected,
+                   int* dof_out = nullptr) {
+    std::vector<std::size_t> idx(observed.size());
+    std::iota(idx.begin(), idx.end(), 0);
+    std::sort(idx.begin(), idx.end(), [&](std::size_t a, std::size_t b) { return expected[a] < expected[b]; });
+    double pooled_o = 0, pooled_e = 0, chi2 = 0;
+    int bins = 0;
+    for (std::size_t i : idx) {
+        if (expected[i] == 0.0) {
+            if (observed[i] > 0) return 0.0;  // a sample where the density is 0
+            continue;
+        }
+        if (expected[i] < 5.0) {
+            pooled_o += observed[i];
+            pooled_e += expected[i];
+            continue;
+        }
+        double d = observed[i] - expected[i];
+        chi2 += d * d / expected[i];
+        ++bins;
+    }
+    if (pooled_e > 0) {
+        double d = pooled_o - pooled_e;
+        chi2 += d * d / pooled_e;
+        ++bins;
+    }
+    int dof = bins - 1;
+    if (dof_out) *dof_out = dof;
+    return gamma_q(dof / 2.0, chi2 / 2.0);
+}
+
+// Bins over the sphere in (θ, φ) about +z: θ in [0, π) in n_theta bins, φ in [0, 2π) in
+// n_phi bins. Expected probabilities integrate pdf(ω) sin θ dθ dφ with an 8x8 midpoint
+// rule per bin.
+template <typename Pdf>
+std::vector<double> bin_probabilities(int n_theta, int n_phi, Pdf pdf) {
+    std::vector<double> p(n_theta * n_phi, 0.0);
+    const int sub = 8;
+    double dt = M_PI / n_theta, dp = 2 * M_PI / n_phi;
+    for (int i = 0; i < n_theta; ++i)
+        for (int j = 0; j < n_phi; ++j) {
+            double s = 0;
+            for (int a = 0; a < sub; ++a)
+                for (int b = 0; b < sub; ++b) {
+                    double th = (i + (a + 0.5) / sub) * dt, ph = (j + (b + 0.5) / sub) * dp;
+                    glm::dvec3 w(std::sin(th) * std::cos(ph), std::sin(th) * std::sin(ph), std::cos(th));
+                    s += pdf(w) * std::sin(th);
+                }
+            p[i * n_phi + j] = s * (dt / sub) * (dp / sub);
+        }
+    return p;
+}
+
+int bin_of(glm::dvec3 w, int n_theta, int n_phi) {
+    double th = std::acos(std::clamp(w.z, -1.0, 1.0));
+    double ph = std::atan2(w.y, w.x);
+    if (ph < 0) ph += 2 * M_PI;
+    int i = std::min(n_theta - 1, static_cast<int>(th / M_PI * n_theta));
+    int j = std::min(n_phi - 1, static_cast<int>(ph / (2 * M_PI) * n_phi));
+    return i * n_phi + j;
+}
+
+// 1e6 paths hitting the floor triangle from direction `dir`, each its own pixel (so its
+// own random numbers).
+ShadeCase many_paths(MaterialData m, glm::vec3 dir, int n) {
+    ShadeCase c = single_triangle(m);
+    c.rays.reserve(n);
+    for (int i = 0; i < n; ++i) add_path(c, dir, glm::vec3(1.0f), i);
+    return c;
+}
+
+}  // namespace
+
+TEST_CASE("shade: emission is one-sided, misses see the background", "[kernel][shade]") {
+    ShadeCase c = single_triangle(material(WP_MATERIAL_DIFFUSE, glm::vec3(0.5f), {2, 3, 4}));
+    c.background = {0.1f, 0.2f, 0.4f, 0};
+    add_path(c, {0.2f, 0.1f, -1}, {0.5f, 1, 2}, 0);       // front face
+    add_path(c, {0.2f, 0.1f, 1}, {1, 1, 1}, 1);           // back face: no emission
+    add_path(c, {0.0f, 0.0f, -1}, {0.5f, 1, 2}, 2, true);  // miss
+    c.max_depth = 0;                                      // emission only, nothing pushed
+    ShadeOut o = run_shade(c);
+    CHECK(v3(o.radiance[0]) == glm::vec3(1, 3, 8));
+    CHECK(v3(o.radiance[1]) == glm::vec3(0, 0, 0));
+    CHECK(v3(o.radiance[2]) == glm::vec3(0.05f, 0.2f, 0.8f));
+    CHECK(o.count == 0);
+    CHECK(o.counters[WP_COUNTER_SHADE_NONFINITE] == 0);
+}
+
+TEST_CASE("shade: mirror reflects exactly and pushes an offset ray", "[kernel][shade]") {
+    ShadeCase c = single_triangle(material(WP_MATERIAL_MIRROR, {0.9f, 0.5f, 0.25f}));
+    c.bounce = 1;
+    add_path(c, {1, 0, -1}, {1, 2, 4}, 7);   // 45 degrees onto the front
+    add_path(c, {0, -3, 4}, {1, 1, 1}, 3);   // onto the back: reflects below the plane
+    ShadeOut o = run_shade(c);
+    REQUIRE(o.count == 2);
+    for (int k = 0; k < 2; ++k) {
+        const Ray& r = o.rays[k];
+        const PathState& p = o.paths[k];
+        glm::vec3 d(r.dir.x, r.dir.y, r.dir.z), org(r.org.x, r.org.y, r.org.z);
+        CHECK(p.bounce == 2);
+        CHECK(r.org.w == 0.0f);
+        CHECK(r.dir.w == FLT_MAX);
+        // Origin: next to the hit point, strictly on the side the ray came from.
+        CHECK(glm::length(org - glm::vec3(0.25f, 0.25f, 0)) < 1e-4f);
+        if (p.pixel == 7) {
+            CHECK(org.z > 0.0f);
+            CHECK(std::abs(d.x - std::sqrt(0.5f)) < 1e-6f);
+            CHECK(d.y == 0.0f);
+            CHECK(std::abs(d.z - std::sqrt(0.5f)) < 1e-6f);
+            CHECK(v3(p.throughput) == glm::vec3(0.9f, 1.0f, 1.0f));
+        } else {
+            REQUIRE(p.pixel == 3);
+            CHECK(org.z < 0.0f);
+            CHECK(d.x == 0.0f);
+            CHECK(std::abs(d.y - -0.6f) < 1e-6f);
+            CHECK(std::abs(d.z - -0.8f) < 1e-6f);
+            CHECK(v3(p.throughput) == glm::vec3(0.9f, 0.5f, 0.25f));
+        }
+    }
+}
+
+TEST_CASE("shade: diffuse and glossy throughput, depth limit and dead paths", "[kernel][shade]") {
+    SECTION("diffuse: weight 2 albedo cos(theta) for a uniform hemisphere sample") {
+        ShadeCase c = single_triangle(material(WP_MATERIAL_DIFFUSE, {0.8f, 0.4f, 0.2f}));
+        for (int i = 0; i < 256; ++i) add_path(c, {0.3f, -0.1f, -1}, {1, 0.5f, 2}, i);
+        ShadeOut o = run_shade(c);
+        REQUIRE(o.count == 256);
+        for (int k = 0; k < o.count; ++k) {
+            const Ray& r = o.rays[k];
+            float cos_t = r.dir.z;  // the normal is +z
+            REQUIRE(cos_t > 0.0f);
+            REQUIRE(glm::length(glm::vec3(r.dir.x, r.dir.y, r.dir.z)) == Approx(1.0f).epsilon(1e-6));
+            glm::vec3 t = v3(o.paths[k].throughput);
+            CHECK(t.x == Approx(0.8f * 2 * cos_t).epsilon(1e-5));
+            CHECK(t.y == Approx(0.5f * 0.4f * 2 * cos_t).epsilon(1e-5));
+            CHECK(t.z == Approx(2.0f * 0.2f * 2 * cos_t).epsilon(1e-5));
+            CHECK(r.org.z > 0.0f);
+        }
+    }
+    SECTION("glossy: weight albedo, directions above the surface only") {
+        ShadeCase c = single_triangle(material(WP_MATERIAL_GLOSSY, {0.7f, 0.6f, 0.5f}, {}, 5.0f));
+        for (int i = 0; i < 256; ++i) add_path(c, {1, 0, -0.3f}, {1, 1, 1}, i);
+        ShadeOut o = run_shade(c);
+        REQUIRE(o.count > 0);
+        REQUIRE(o.count < 256);  // grazing incidence: some of the lobe falls below
+        for (int k = 0; k < o.count; ++k) {
+            CHECK(o.rays[k].dir.z > 0.0f);
+            CHECK(v3(o.paths[k].throughput) == glm::vec3(0.7f, 0.6f, 0.5f));
+        }
+    }
+    SECTION("at the depth limit only emission is added; black paths are not pushed") {
+        ShadeCase c = single_triangle(material(WP_MATERIAL_DIFFUSE, glm::vec3(0.5f), {1, 1, 1}));
+        c.materials.push_back(material(WP_MATERIAL_DIFFUSE, glm::vec3(0.0f)));
+        c.bounce = 3;
+        c.max_depth = 3;
+        add_path(c, {0, 0, -1}, {1, 1, 1}, 0);
+        ShadeOut o = run_shade(c);
+        CHECK(v3(o.radiance[0]) == glm::vec3(1, 1, 1));
+        CHECK(o.count == 0);
+        c.max_depth = 4;
+        c.material_ids = {1};  // albedo 0
+        o = run_shade(c);
+        CHECK(o.count == 0);
+    }
+    SECTION("NaN throughput is counted and never reaches the radiance") {
+        ShadeCase c = single_triangle(material(WP_MATERIAL_DIFFUSE, glm::vec3(0.5f), {1, 1, 1}));
+        add_path(c, {0, 0, -1}, {NAN, 1, 1}, 0);
+        ShadeOut o = run_shade(c);
+        CHECK(v3(o.radiance[0]) == glm::vec3(0, 0, 0));
+        CHECK(o.count == 0);
+        CHECK(o.counters[WP_COUNTER_SHADE_NONFINITE] == 2);  // emission and scattering
+    }
+}
+
+TEST_CASE("shade: diffuse directions follow the uniform hemisphere density (chi2)",
+          "[kernel][shade][stat]") {
+    const int n = 1000000, nt = 20, np = 40;
+    ShadeCase c = many_paths(material(WP_MATERIAL_DIFFUSE, glm::vec3(0.5f)), {0.3f, -0.2f, -1}, n);
+    ShadeOut o = run_shade(c);
+    REQUIRE(o.count == n);
+    std::vector<double> obs(nt * np, 0.0);
+    for (const Ray& r : o.rays) obs[bin_of({r.dir.x, r.dir.y, r.dir.z}, nt, np)] += 1;
+    // Uniform over the upper hemisphere of the +z normal: 1 / (2π) for z > 0.
+    auto prob = bin_probabilities(nt, np, [](glm::dvec3 w) { return w.z > 0 ? 1.0 / (2 * M_PI) : 0.0; });
+    std::vector<double> expct(prob.size());
+    for (std::size_t i = 0; i < prob.size(); ++i) expct[i] = prob[i] * n;
+    int dof = 0;
+    double p = chi2_pvalue(obs, expct, &dof);
+    INFO("chi2 p-value " << p << " with " << dof << " degrees of freedom");
+    CHECK(dof > 300);
+    CHECK(p > 0.01);
+}
+
+TEST_CASE("shade: glossy directions follow the Phong lobe around the mirror direction (chi2)",
+          "[kernel][shade][stat]") {
+    const int n = 1000000, nt = 40, np = 40;
+    const double e = 12.0;
+    glm::dvec3 din = glm::normalize(glm::dvec3(1.0, 0.4, -0.6));
+    ShadeCase c = many_paths(material(WP_MATERIAL_GLOSSY, glm::vec3(0.9f), {}, float(e)),
+                             glm::vec3(din), n);
+    ShadeOut o = run_shade(c);
+    // Mirror direction about the +z normal, and the normalised Phong lobe around it.
+    glm::dvec3 r(din.x, din.y, -din.z);
+    auto lobe = [&](glm::dvec3 w) {
+        double ca = glm::dot(w, r);
+        return ca > 0 ? (e + 1) / (2 * M_PI) * std::pow(ca, e) : 0.0;
+    };
+    auto prob = bin_probabilities(nt, np, lobe);
+    // Bins over the whole sphere; samples below the surface are absorbed, so they form one
+    // extra bin whose probability is the lobe's mass below the plane.
+    std::vector<double> obs(nt * np + 1, 0.0), expct(nt * np + 1, 0.0);
+    double above = 0;
+    for (int i = 0; i < nt * np; ++i) {
+        bool upper = i / np < nt / 2;  // θ < π/2
+        if (upper) {
+            expct[i] = prob[i] * n;
+            above += prob[i];
+        }
+    }
+    expct[nt * np] = (1.0 - above) * n;
+    for (const Ray& ray : o.rays) obs[bin_of({ray.dir.x, ray.dir.y, ray.dir.z}, nt, np)] += 1;
+    obs[nt * np] = n - o.count;
+    INFO("absorbed " << obs[nt * np] << ", expected " << expct[nt * np]);
+    REQUIRE(expct[nt * np] > 1000);  // the case exercises the below-surface part
+    int dof = 0;
+    double p = chi2_pvalue(obs, expct, &dof);
+    INFO("chi2 p-value " << p << " with " << dof << " degrees of freedom");
+    CHECK(dof > 100);
+    CHECK(p > 0.01);
+}
