@@ -1,10 +1,16 @@
 // accumulate.cl — the accumulate stage: adds the frame's radiance into the film.
 //
-// reads   radiance[p] (this frame's sample of pixel p, written by generate and shade)
-// writes  film[p] (FilmPixel: double-float running sum, film.h), counters
-//         [WP_COUNTER_ACCUMULATE_NONFINITE] when a sample is NaN/Inf (it is dropped, so
-//         NaN/Inf never reach the film)
-// pushes  nothing. Launched over the pixel count; the host divides by the sample count.
+// accumulate_film
+//   reads   radiance[p] (this frame's sample of pixel p, written by generate and shade)
+//   writes  film[p] (FilmPixel: double-float running sum, film.h), counters
+//           [WP_COUNTER_ACCUMULATE_NONFINITE] when a sample is NaN/Inf (it is dropped, so
+//           NaN/Inf never reach the film)
+//   pushes  nothing. Launched over the pixel count; the host divides by the sample count.
+// accumulate_film_variance
+//   the same, and also film_sq[p] += x * x per channel (double-float running sum of
+//   squares), from which the host derives the sample variance and the variance of the
+//   mean. Used only when variance or a reference is requested (render/wavefront.h), so
+//   plain renders neither square nor store the second buffer.
 #include "shared/film.h"
 
 __kernel void accumulate_film(__global const float4* radiance, int pixel_count,
@@ -17,4 +23,18 @@ __kernel void accumulate_film(__global const float4* radiance, int pixel_count,
         return;
     }
     film[p] = wp_film_add(film[p], x);
+}
+
+__kernel void accumulate_film_variance(__global const float4* radiance, int pixel_count,
+                                       __global FilmPixel* film, __global int* counters,
+                                       __global FilmPixel* film_sq) {
+    int p = wp_global_id();
+    if (p >= pixel_count) return;
+    float3 x = wp_xyz(radiance[p]);
+    if (!wp_all_finite3(x)) {
+        atomic_inc(&counters[WP_COUNTER_ACCUMULATE_NONFINITE]);
+        return;
+    }
+    film[p] = wp_film_add(film[p], x);
+    film_sq[p] = wp_film_add_square(film_sq[p], x);
 }

@@ -1,4 +1,5 @@
-// film.h — adding a sample to a film pixel with a double-float running sum (FilmPixel).
+// film.h — adding a sample (or its square) to a film pixel with a double-float running sum
+// (FilmPixel).
 //
 // Each channel is an unevaluated pair (hi, lo) = (sum, comp) with |lo| <= ulp(hi) / 2, so
 // the pair carries about 48 significant bits. Adding a float x is DWPlusFP, Algorithm 4
@@ -35,6 +36,33 @@ WP_FN FilmPixel wp_film_add(FilmPixel p, float3 x) {
     wp_double_float_add(&s0, &c0, x.x);
     wp_double_float_add(&s1, &c1, x.y);
     wp_double_float_add(&s2, &c2, x.z);
+    FilmPixel r;
+    r.sum = make_float4(s0, s1, s2, 0.0f);
+    r.comp = make_float4(c0, c1, c2, 0.0f);
+    return r;
+}
+
+// Sum of squares: each x_c^2 is formed exactly as a float pair (TwoProd by Dekker's
+// splitting; no FMA, so no contraction dependence) and both words are added, so the
+// squares keep the same ~48-bit accuracy as the sum. Needed because the sample variance
+// (sum_sq - sum^2 / n) / (n - 1) cancels when the variance is small against the mean.
+WP_FN void wp_double_float_add_square(float* hi, float* lo, float x) {
+    // Dekker's split of x into two 12-bit halves (factor 2^12 + 1; exact for |x| < 2^115).
+    float c = 4097.0f * x;
+    float xh = c - (c - x);
+    float xl = x - xh;
+    float p = x * x;
+    float e = ((xh * xh - p) + 2.0f * xh * xl) + xl * xl;  // p + e == x * x exactly
+    wp_double_float_add(hi, lo, p);
+    wp_double_float_add(hi, lo, e);
+}
+
+WP_FN FilmPixel wp_film_add_square(FilmPixel p, float3 x) {
+    float s0 = p.sum.x, s1 = p.sum.y, s2 = p.sum.z;
+    float c0 = p.comp.x, c1 = p.comp.y, c2 = p.comp.z;
+    wp_double_float_add_square(&s0, &c0, x.x);
+    wp_double_float_add_square(&s1, &c1, x.y);
+    wp_double_float_add_square(&s2, &c2, x.z);
     FilmPixel r;
     r.sum = make_float4(s0, s1, s2, 0.0f);
     r.comp = make_float4(c0, c1, c2, 0.0f);

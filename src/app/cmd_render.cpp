@@ -3,29 +3,29 @@
 // Loads the scene (the built-in Cornell box, or an OBJ/MTL file), checks every output path
 // before any work, renders progressively (one sample per pixel per frame) until --spp or
 // --time, writes the image(s) atomically and prints the per-stage kernel profile.
-#include <unistd.h>
-
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <optional>
-#include <regex>
+#include <memory>
 #include <string>
 #include <vector>
 
 #include <fmt/format.h>
 
+#include "app/render_options.h"
 #include "app/subcommands.h"
 #include "cl/device.h"
 #include "image/image.h"
+#include "image/stats.h"
 #include "render/loop.h"
 #include "render/profile.h"
 #include "render/progress.h"
+#include "render/reference.h"
 #include "render/wavefront.h"
-#include "scene/builtin.h"
-#include "scene/obj_loader.h"
 #include "util/atomic_file.h"
 #include "util/error.h"
+#include "util/timer.h"
 
 namespace wp::app {
 
@@ -37,60 +37,25 @@ struct RenderArgs {
     std::string scene;     // empty: the built-in Cornell box
     int spp = 64;
     double time_s = 0.0;   // 0: no time limit
-    int depth = 3;
-    std::string size;      // "WxH"; empty: the scene camera's size
+    ConfigArgs config;     // depth, size, device, traversal (app/render_options.h)
     std::uint32_t seed = 0;
-    std::string device;
     std::string output;    // empty: render.exr + render.png in the current folder
     std::string profile;   // profile JSON path; the trace goes next to it
+    bool variance = false; // also write the variance of the mean (X.var.exr)
+    std::string reference; // reference EXR to measure the error against
     bool quiet = false;
     bool verbose = false;
 };
 
-// Fails unless `path` can be created: a supported extension (when an image), an existing,
-// writable folder, and not itself a folder.
-void check_writable(const fs::path& path, const char* what, bool image) {
-    if (image && !is_supported_image_path(path))
-        fail("{} '{}': unknown image extension '{}' (supported: .exr, .png, .jpg, .jpeg)", what,
-             path.string(), path.extension().string());
-    fs::path dir = path.parent_path().empty() ? fs::path(".") : path.parent_path();
-    std::error_code ec;
-    if (!fs::is_directory(dir, ec))
-        fail("{} '{}': folder '{}' does not exist", what, path.string(), dir.string());
-    if (access(dir.c_str(), W_OK) != 0)
-        fail("{} '{}': folder '{}' is not writable", what, path.string(), dir.string());
-    if (fs::is_directory(path, ec)) fail("{} '{}' is a folder", what, path.string());
-}
-
-Scene load_scene(const std::string& arg) {
-    if (arg.empty()) return make_cornell_box();
-    fs::path p(arg);
-    std::error_code ec;
-    if (!fs::exists(p, ec)) fail("scene file '{}' not found", arg);
-    std::string ext = p.extension().string();
-    for (auto& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
-    if (ext == ".obj") return load_obj(p);
-    fail("scene file '{}': unsupported format '{}' (supported: .obj)", arg, ext);
-}
+// How often the progress line's error against the reference is refreshed (film read-back).
+constexpr double kReferenceInterval_s = 3.0;
 
 int run_render(const RenderArgs& a) {
     // 1. Options.
     if (a.spp < 1) fail("--spp must be at least 1 (got {})", a.spp);
-    if (a.depth < 0) fail("--depth must be at least 0 (got {})", a.depth);
+    if (a.config.depth < 0) fail("--depth must be at least 0 (got {})", a.config.depth);
     if (!(a.time_s >= 0.0) || !std::isfinite(a.time_s))
         fail("--time must be a number of seconds >= 0 (got {})", a.time_s);
-    std::optional<std::pair<int, int>> size;
-    if (!a.size.empty()) {
-        static const std::regex re(R"((\d{1,6})[xX](\d{1,6}))");
-        std::smatch m;
-        if (!std::regex_match(a.size, m, re))
-            fail("--size '{}': expected WIDTHxHEIGHT, e.g. 800x600", a.size);
-        int w = std::stoi(m[1]), h = std::stoi(m[2]);
-        if (w <= 0 || h <= 0) fail("--size '{}': width and height must be positive", a.size);
-        if (static_cast<long long>(w) * h > (1LL << 26))
-            fail("--size '{}': more than 2^26 pixels", a.size);
-        size = {w, h};
-    }
 
     // 2. Outputs: checked before any work, so a bad path fails in milliseconds.
     std::vector<fs::path> outputs;
@@ -104,18 +69,30 @@ int run_render(const RenderArgs& a) {
         check_writable(a.profile, "--profile", false);
         trace_path = render::trace_path_for(a.profile);
     }
+    // The variance goes next to the EXR output (else next to the first output).
+    fs::path variance_path;
+    if (a.variance) {
+        fs::path base = outputs.front();
+        for (const auto& o : outputs)
+            if (o.extension() == ".exr") {
+                base = o;
+                break;
+            }
+        variance_path = variance_path_for(base);
+        check_writable(variance_path, "--variance output", true);
+    }
 
     // 3. Scene and device.
     Scene scene = load_scene(a.scene);
     if (!a.quiet)
         for (const auto& w : scene.warnings) fmt::print(stderr, "wavepath: warning: {}\n", w);
-    ocl::Device dev = ocl::Device::open(a.device);
-
-    render::RenderSettings s;
-    s.width = size ? size->first : scene.camera.width;
-    s.height = size ? size->second : scene.camera.height;
-    s.depth = a.depth;
+    render::RenderSettings s = make_settings(a.config, scene);
     s.seed = a.seed;
+    s.variance = a.variance;
+    // A reference of the wrong size is an error before any rendering.
+    std::optional<render::Reference> ref;
+    if (!a.reference.empty()) ref = render::load_reference(a.reference, s.width, s.height);
+    ocl::Device dev = ocl::Device::open(a.config.device);
     render::Wavefront wf(dev, scene, s);
     if (a.verbose) {
         fmt::print(stderr, "device: {}: {} ({})\n", dev.info.platform, dev.info.name, dev.info.driver);
@@ -130,13 +107,34 @@ int run_render(const RenderArgs& a) {
     render::LoopOptions lo;
     lo.spp = a.spp;
     lo.time_limit_s = a.time_s;
+    if (ref && !a.quiet) {
+        // The error in the progress line, from a film read every few seconds only.
+        auto last = std::make_shared<Timer>();
+        lo.checkpoint_due = [last](int, double) {
+            return last->seconds() >= kReferenceInterval_s;
+        };
+        lo.checkpoint = [&, last](int, double) {
+            ErrorMetrics m = compare_images(wf.resolve(), ref->image);
+            progress.set_note(fmt::format("relMSE {:.3e}", m.relmse));
+            last->reset();
+        };
+    }
     render::LoopResult res = render::render_frames(wf, lo, &progress);
     std::uint64_t rays = wf.rays_traced();
     progress.finish(res.frames, rays);
 
     // 5. Images (atomic writes).
-    Image img = wf.resolve();
+    Image img;
+    if (a.variance) {
+        render::FilmMoments mom = wf.moments();
+        img = std::move(mom.mean);
+        write_image(variance_path, mom.mean_variance);
+    } else {
+        img = wf.resolve();
+    }
     for (const auto& o : outputs) write_image(o, img);
+    std::optional<ErrorMetrics> err;
+    if (ref) err = compare_images(img, ref->image);
 
     // 6. Report.
     auto counters = wf.counters();
@@ -152,11 +150,21 @@ int run_render(const RenderArgs& a) {
     if (!a.quiet) {
         std::string names;
         for (const auto& o : outputs) names += (names.empty() ? "" : ", ") + o.string();
+        if (a.variance) names += ", " + variance_path.string() + " (variance of the mean)";
         fmt::print("{}: {}x{}, {} spp, depth {}, {:.2f} s{}; wrote {}\n", scene.name, s.width,
-                   s.height, res.frames, s.depth, res.wall_s,
+                   s.height, res.frames, s.depth, res.render_s,
                    res.stopped_by_time ? " (time limit)" : "", names);
         fmt::print("kernel options: {}\n", wf.options());
+        if (err)
+            fmt::print("error against {}: {} (relMSE eps 1e-2); largest |difference| {:.3e} at "
+                       "pixel ({}, {})\n",
+                       a.reference, render::format_errors(*err), err->max_abs, err->max_x,
+                       err->max_y);
         fmt::print("{}", render::format_profile_table(prof));
+    }
+    if (err) {
+        std::string w = render::reference_warning(*ref, err->relmse);
+        if (!w.empty() && !a.quiet) fmt::print(stderr, "wavepath: warning: {}\n", w);
     }
     if (!a.profile.empty()) {
         nlohmann::json j = render::profile_json(prof);
@@ -171,7 +179,14 @@ int run_render(const RenderArgs& a) {
                       {"program_ms", st.program_ms}};
         j["settings"] = {{"width", s.width}, {"height", s.height}, {"spp_requested", a.spp},
                          {"spp", res.frames}, {"depth", s.depth}, {"seed", s.seed},
-                         {"time_limit_s", a.time_s}, {"wall_s", res.wall_s}};
+                         {"traversal", render::traversal_name(s.traversal)},
+                         {"time_limit_s", a.time_s}, {"wall_s", res.wall_s},
+                         {"render_s", res.render_s}};
+        if (err)
+            j["error"] = {{"reference", a.reference}, {"rmse", err->rmse},
+                          {"relmse", err->relmse}, {"relmse_eps", 1e-2}, {"mae", err->mae},
+                          {"max_abs", err->max_abs}, {"max_x", err->max_x},
+                          {"max_y", err->max_y}, {"reference_own_relmse", ref->own_relmse}};
         j["kernel_options"] = wf.options();
         j["nonfinite"] = {{"generate", counters[WP_COUNTER_GENERATE_NONFINITE]},
                           {"shade", counters[WP_COUNTER_SHADE_NONFINITE]},
@@ -196,25 +211,18 @@ Subcommand add_render(CLI::App& app) {
         "the current folder.");
     auto* c = s.app;
     c->add_option("scene", args->scene,
-                  "Scene file: a Wavefront .obj (with its .mtl). Default: the built-in Cornell box");
+                  "Scene file: a Wavefront .obj (with its .mtl), or builtin:cornell-box (the "
+                  "default) or builtin:closed-box-furnace");
     c->add_option("--spp", args->spp, "Samples per pixel (one per frame), >= 1")
         ->capture_default_str();
     c->add_option("--time", args->time_s,
                   "Stop after this many seconds even if --spp is not reached (the frame in "
                   "flight completes); 0 = no limit")
         ->capture_default_str();
-    c->add_option("--depth", args->depth,
-                  "Maximum number of bounces (scattering events) per path, >= 0: 0 shows only "
-                  "emitters and the background, D gathers light that bounced at most D times")
-        ->capture_default_str();
-    c->add_option("--size", args->size,
-                  "Image size WIDTHxHEIGHT in pixels (default: the scene's, 800x600)");
+    add_config_options(c, args->config);
     c->add_option("--seed", args->seed,
                   "Random seed: the same seed on the same device gives a bit-identical image")
         ->capture_default_str();
-    c->add_option("--device", args->device,
-                  "OpenCL device: an index from `wavepath devices`, or text matched against "
-                  "'platform: name' (default: the first GPU, else the first device)");
     c->add_option("-o,--output", args->output,
                   "Write only this image; format from the extension: .exr (linear float), "
                   ".png/.jpg (8-bit sRGB). Default: render.exr and render.png");
@@ -222,6 +230,17 @@ Subcommand add_render(CLI::App& app) {
                   "Write the kernel profile (device, scene statistics, per-stage and per-frame "
                   "times) as JSON to this file, and a Chrome trace-event file (Perfetto) next to "
                   "it: FILE.json -> FILE.trace.json");
+    c->add_flag("--variance", args->variance,
+                "Also keep the per-pixel sum of squares and write the variance of the mean, "
+                "s^2/n per channel (s^2: the unbiased sample variance of the n samples; "
+                "multiply by n = spp to get s^2), as linear float RGB to OUT.var.exr next "
+                "to the EXR output (render.var.exr by default): the input of `compare "
+                "--variance` and of the reference checks of `converge`");
+    c->add_option("--reference", args->reference,
+                  "Reference image (EXR of the same size) to measure the error against: "
+                  "RMSE, relMSE = mean over pixels and channels of (x-r)^2/(r^2+0.01), MAE at "
+                  "the end, and relMSE in the progress line every few seconds. A REF.var.exr "
+                  "next to it is used to check that the reference's own error is small");
     c->add_flag("-q,--quiet", args->quiet,
                 "No progress line, summary or profile table (errors and NaN warnings only)");
     c->add_flag("-v,--verbose", args->verbose,

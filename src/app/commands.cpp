@@ -15,11 +15,13 @@ int run(int argc, char** argv) {
     CLI::App app{"wavepath: a wavefront Monte Carlo path tracer on OpenCL"};
     app.set_version_flag("--version", std::string("wavepath ") + WP_VERSION);
     app.require_subcommand(1);
-    std::vector<Subcommand> subs = {add_render(app), add_bench(app), add_devices(app)};
+    std::vector<Subcommand> subs = {add_render(app), add_compare(app), add_converge(app),
+                                   add_bench(app), add_devices(app)};
     try {
         app.parse(argc, argv);
     } catch (const CLI::ParseError& e) {
-        return app.exit(e);
+        // --help / --version exit 0; every other parse error is a usage error (commands.h).
+        return app.exit(e) == 0 ? 0 : 2;
     }
     try {
         for (auto& s : subs)

@@ -16,5 +16,7 @@ struct Subcommand {
 Subcommand add_devices(CLI::App& app);
 Subcommand add_render(CLI::App& app);
 Subcommand add_bench(CLI::App& app);
+Subcommand add_compare(CLI::App& app);
+Subcommand add_converge(CLI::App& app);
 
 }  // namespace wp::app

@@ -3,7 +3,15 @@
 // At most two frames are in flight: frame f is enqueued before the host waits for frame
 // f - 1, so the device never idles while the host enqueues. No buffer is read inside the
 // loop except the 8-byte ray total, and only when the progress line is due.
+//
+// Checkpoints: when LoopOptions::checkpoint_due(frames, seconds) says so (after a frame is
+// enqueued), the loop calls checkpoint(frames, seconds); a blocking film read there sees
+// exactly `frames` samples (the queue is in order). The time spent inside checkpoints is
+// not render time: it is left out of `seconds`, of the time limit and of render_s, so
+// error-against-time curves are not bent by their own measurement.
 #pragma once
+
+#include <functional>
 
 #include "render/progress.h"
 #include "render/wavefront.h"
@@ -12,12 +20,16 @@ namespace wp::render {
 
 struct LoopOptions {
     int spp = 64;               // samples per pixel (= frames)
-    double time_limit_s = 0.0;  // stop after this wall time (checked per frame); 0 = none
+    double time_limit_s = 0.0;  // stop after this render time (checked per frame); 0 = none
+    // Optional checkpoint hook; `seconds` is render time so far (checkpoints excluded).
+    std::function<bool(int frames, double seconds)> checkpoint_due;
+    std::function<void(int frames, double seconds)> checkpoint;
 };
 
 struct LoopResult {
     int frames = 0;
-    double wall_s = 0.0;
+    double wall_s = 0.0;    // wall time of the whole loop
+    double render_s = 0.0;  // wall time less the time spent in checkpoints
     bool stopped_by_time = false;
 };
 

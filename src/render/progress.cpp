@@ -34,9 +34,10 @@ std::string Progress::line(int done, std::uint64_t rays) const {
     double eta = done > 0 ? el / done * (total_ - done) : 1e30;
     if (time_limit_s_ > 0.0) eta = std::min(eta, std::max(0.0, time_limit_s_ - el));
     double mrays = el > 0.0 ? rays / el * 1e-6 : 0.0;
-    return fmt::format("render: {}/{} spp ({:3.0f}%)  elapsed {}  ETA {}  {:.1f} Mrays/s", done,
-                       total_, 100.0 * done / std::max(total_, 1), format_duration(el),
-                       done > 0 || time_limit_s_ > 0.0 ? format_duration(eta) : "?", mrays);
+    return fmt::format("render: {}/{} spp ({:3.0f}%)  elapsed {}  ETA {}  {:.1f} Mrays/s{}{}",
+                       done, total_, 100.0 * done / std::max(total_, 1), format_duration(el),
+                       done > 0 || time_limit_s_ > 0.0 ? format_duration(eta) : "?", mrays,
+                       note_.empty() ? "" : "  ", note_);
 }
 
 void Progress::update(int done, std::uint64_t rays) {

@@ -7,6 +7,7 @@
 
 #include <cstdint>
 #include <string>
+#include <utility>
 
 #include "util/timer.h"
 
@@ -18,6 +19,8 @@ class Progress {
     // True when update() would print now (lets the caller skip reading the ray count).
     bool due() const;
     void update(int samples_done, std::uint64_t rays);
+    // Text appended to the line from now on (e.g. the error against a reference).
+    void set_note(std::string note) { note_ = std::move(note); }
     // Prints the final state and ends the line.
     void finish(int samples_done, std::uint64_t rays);
 
@@ -28,6 +31,7 @@ class Progress {
     bool enabled_;
     bool tty_;
     bool printed_ = false;
+    std::string note_;
     Timer timer_;
     double last_print_s_ = -1e9;
 };

@@ -26,6 +26,10 @@ void fill_zero(const ocl::Device& dev, const ::cl::Buffer& b, std::size_t count)
 
 }  // namespace
 
+const char* traversal_name(Traversal t) {
+    return t == Traversal::Stack ? "stack" : "stackless";
+}
+
 Wavefront::Wavefront(ocl::Device& dev, const Scene& scene, const RenderSettings& settings)
     : dev_(dev), settings_(settings) {
     if (settings.width <= 0 || settings.height <= 0)
@@ -72,6 +76,10 @@ Wavefront::Wavefront(ocl::Device& dev, const Scene& scene, const RenderSettings&
     radiance_ = make_scratch(dev, n * sizeof(float4), "the frame radiance");
     film_ = make_scratch(dev, n * sizeof(FilmPixel), "the film");
     fill_zero<float>(dev, film_, n * sizeof(FilmPixel) / sizeof(float));
+    if (settings.variance) {
+        film_sq_ = make_scratch(dev, n * sizeof(FilmPixel), "the film's sum of squares");
+        fill_zero<float>(dev, film_sq_, n * sizeof(FilmPixel) / sizeof(float));
+    }
     counters_ = make_scratch(dev, WP_COUNTER_COUNT * sizeof(int), "the counters");
     fill_zero<int>(dev, counters_, WP_COUNTER_COUNT);
     ray_total_ = make_scratch(dev, sizeof(cl_ulong), "the ray total");
@@ -86,10 +94,21 @@ Wavefront::Wavefront(ocl::Device& dev, const Scene& scene, const RenderSettings&
     accumulate_prog_ = ocl::Program::build(dev, "accumulate.cl");
     stats_.program_ms = prog_timer.ms();
     generate_ = generate_prog_.kernel("generate_camera");
-    intersect_ = intersect_prog_.kernel("intersect_closest");
+    if (settings.traversal == Traversal::Stack) {
+        // The stack traversal needs a wavefront entry (queue length read on the device).
+        try {
+            intersect_ = intersect_prog_.kernel("intersect_closest_stack");
+        } catch (const Error&) {
+            fail("traversal 'stack': kernels/intersect.cl has no wavefront entry point "
+                 "'intersect_closest_stack' (only the batch entry intersect_closest_stack_batch)");
+        }
+    } else {
+        intersect_ = intersect_prog_.kernel("intersect_closest");
+    }
     reset_ = shade_prog_.kernel("queue_reset");
     shade_ = shade_prog_.kernel("shade_surface");
-    accumulate_ = accumulate_prog_.kernel("accumulate_film");
+    accumulate_ = accumulate_prog_.kernel(settings.variance ? "accumulate_film_variance"
+                                                            : "accumulate_film");
 
     // Arguments that never change.
     generate_.setArg(0, camera_);
@@ -115,7 +134,24 @@ Wavefront::Wavefront(ocl::Device& dev, const Scene& scene, const RenderSettings&
     accumulate_.setArg(1, static_cast<cl_int>(n));
     accumulate_.setArg(2, film_);
     accumulate_.setArg(3, counters_);
+    if (settings.variance) accumulate_.setArg(4, film_sq_);
     dev.queue.finish();
+}
+
+void Wavefront::reset(std::uint32_t seed) {
+    dev_.queue.finish();
+    profiler_.resolve();
+    profiler_.clear();
+    std::size_t n = static_cast<std::size_t>(pixel_count());
+    fill_zero<float>(dev_, film_, n * sizeof(FilmPixel) / sizeof(float));
+    if (settings_.variance) fill_zero<float>(dev_, film_sq_, n * sizeof(FilmPixel) / sizeof(float));
+    fill_zero<int>(dev_, counters_, WP_COUNTER_COUNT);
+    fill_zero<cl_ulong>(dev_, ray_total_, 1);
+    settings_.seed = seed;
+    generate_.setArg(1, static_cast<cl_uint>(seed));
+    shade_.setArg(8, static_cast<cl_uint>(seed));
+    frames_ = 0;
+    dev_.queue.finish();
 }
 
 ::cl::Event Wavefront::enqueue_frame() {
@@ -160,6 +196,14 @@ std::vector<FilmPixel> Wavefront::film() {
     std::vector<FilmPixel> f(static_cast<std::size_t>(pixel_count()));
     dev_.queue.enqueueReadBuffer(film_, CL_TRUE, 0, f.size() * sizeof(FilmPixel), f.data());
     return f;
+}
+
+FilmMoments Wavefront::moments() {
+    if (!settings_.variance) fail("the film keeps no variance (render settings without variance)");
+    std::vector<FilmPixel> sq(static_cast<std::size_t>(pixel_count()));
+    std::vector<FilmPixel> f = film();
+    dev_.queue.enqueueReadBuffer(film_sq_, CL_TRUE, 0, sq.size() * sizeof(FilmPixel), sq.data());
+    return resolve_moments(f, sq, settings_.width, settings_.height, frames_);
 }
 
 Image Wavefront::resolve() {

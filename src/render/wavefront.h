@@ -11,6 +11,8 @@
 //
 // Programs and buffers are created once in the constructor; enqueue_frame() only sets
 // arguments and enqueues. Every launch is named and profiled (cl/profiler.h).
+// With settings.variance the accumulate stage also sums squares into a second film
+// (accumulate_film_variance); otherwise that buffer is never allocated.
 #pragma once
 
 #include <array>
@@ -24,11 +26,21 @@
 #include "cl/profiler.h"
 #include "cl/program.h"
 #include "image/image.h"
+#include "render/film.h"
 #include "render/kernel_config.h"
 #include "scene/scene.h"
 #include "shared/types.h"
 
 namespace wp::render {
+
+// Closest-hit traversal for the intersect stage (kernels/intersect.cl entry points).
+enum class Traversal {
+    Stackless,  // intersect_closest: the ordered stackless traversal (the default)
+    Stack,      // intersect_closest_stack: the small-stack traversal (speed reference)
+};
+
+// "stackless" / "stack".
+const char* traversal_name(Traversal t);
 
 struct RenderSettings {
     int width = 800;           // pixels
@@ -36,6 +48,8 @@ struct RenderSettings {
     int depth = 3;             // maximum number of bounces (see above)
     std::uint32_t seed = 0;    // random stream; the same seed gives the same image
     bool jitter = true;        // random position inside each pixel (false: pixel centres)
+    bool variance = false;     // also keep the per-pixel sum of squares (moments())
+    Traversal traversal = Traversal::Stackless;
 };
 
 struct SceneStats {
@@ -57,6 +71,10 @@ class Wavefront {
     // Enqueues one frame (one sample per pixel) and returns the event of its last launch.
     ::cl::Event enqueue_frame();
 
+    // Starts over with another seed: clears the film(s), counters, ray total and profile,
+    // keeping programs and scene buffers (for repeated runs of one configuration).
+    void reset(std::uint32_t seed);
+
     int frames() const { return frames_; }
     int pixel_count() const { return settings_.width * settings_.height; }
     const RenderSettings& settings() const { return settings_; }
@@ -71,6 +89,9 @@ class Wavefront {
     std::array<int, WP_COUNTER_COUNT> counters();       // non-finite values per stage
     std::uint64_t rays_traced();                        // all rays traced so far
     std::vector<FilmPixel> film();                      // the raw film
+    // Mean, sample variance and variance of the mean (render/film.h); needs
+    // settings.variance, else throws wp::Error.
+    FilmMoments moments();
 
   private:
     ocl::Device& dev_;
@@ -91,6 +112,7 @@ class Wavefront {
     // Wavefront state: two ray/path queues with their lengths, hits, per-pixel radiance.
     ::cl::Buffer rays_[2], paths_[2], count_[2], hits_, radiance_;
     ::cl::Buffer film_, counters_, ray_total_;
+    ::cl::Buffer film_sq_;  // sum of squares; allocated only with settings.variance
 };
 
 }  // namespace wp::render

@@ -1,0 +1,90 @@
+#include "app/render_options.h"
+
+#include <unistd.h>
+
+#include <cctype>
+#include <regex>
+
+#include "image/image.h"
+#include "scene/builtin.h"
+#include "scene/obj_loader.h"
+#include "util/error.h"
+
+namespace wp::app {
+
+namespace fs = std::filesystem;
+
+void add_config_options(CLI::App* c, ConfigArgs& a) {
+    c->add_option("--depth", a.depth,
+                  "Maximum number of bounces (scattering events) per path, >= 0: 0 shows only "
+                  "emitters and the background, D gathers light that bounced at most D times")
+        ->capture_default_str();
+    c->add_option("--size", a.size,
+                  "Image size WIDTHxHEIGHT in pixels (default: the scene's, 800x600)");
+    c->add_option("--device", a.device,
+                  "OpenCL device: an index from `wavepath devices`, or text matched against "
+                  "'platform: name' (default: the first GPU, else the first device)");
+    c->add_option("--traversal", a.traversal,
+                  "Closest-hit BVH traversal of the intersect stage: stackless (ordered, "
+                  "the default) or stack (small private stack; needs the wavefront entry "
+                  "intersect_closest_stack in kernels/intersect.cl)")
+        ->capture_default_str();
+}
+
+render::RenderSettings make_settings(const ConfigArgs& a, const Scene& scene) {
+    if (a.depth < 0) fail("--depth must be at least 0 (got {})", a.depth);
+    render::RenderSettings s;
+    s.width = scene.camera.width;
+    s.height = scene.camera.height;
+    if (!a.size.empty()) {
+        static const std::regex re(R"((\d{1,6})[xX](\d{1,6}))");
+        std::smatch m;
+        if (!std::regex_match(a.size, m, re))
+            fail("--size '{}': expected WIDTHxHEIGHT, e.g. 800x600", a.size);
+        int w = std::stoi(m[1]), h = std::stoi(m[2]);
+        if (w <= 0 || h <= 0) fail("--size '{}': width and height must be positive", a.size);
+        if (static_cast<long long>(w) * h > (1LL << 26))
+            fail("--size '{}': more than 2^26 pixels", a.size);
+        s.width = w;
+        s.height = h;
+    }
+    if (a.traversal == "stackless")
+        s.traversal = render::Traversal::Stackless;
+    else if (a.traversal == "stack")
+        s.traversal = render::Traversal::Stack;
+    else
+        fail("--traversal '{}': expected stackless or stack", a.traversal);
+    s.depth = a.depth;
+    return s;
+}
+
+Scene load_scene(const std::string& arg) {
+    if (arg.empty() || arg == "builtin:cornell-box") return make_cornell_box();
+    // The analytic furnace of the render tests: emission 0.5, albedo 0.6.
+    if (arg == "builtin:closed-box-furnace") return make_closed_box_furnace(0.5f, 0.6f);
+    if (arg.rfind("builtin:", 0) == 0)
+        fail("scene '{}': unknown built-in scene (builtin:cornell-box, "
+             "builtin:closed-box-furnace)", arg);
+    fs::path p(arg);
+    std::error_code ec;
+    if (!fs::exists(p, ec)) fail("scene file '{}' not found", arg);
+    std::string ext = p.extension().string();
+    for (auto& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+    if (ext == ".obj") return load_obj(p);
+    fail("scene file '{}': unsupported format '{}' (supported: .obj)", arg, ext);
+}
+
+void check_writable(const fs::path& path, const char* what, bool image) {
+    if (image && !is_supported_image_path(path))
+        fail("{} '{}': unknown image extension '{}' (supported: .exr, .png, .jpg, .jpeg)", what,
+             path.string(), path.extension().string());
+    fs::path dir = path.parent_path().empty() ? fs::path(".") : path.parent_path();
+    std::error_code ec;
+    if (!fs::is_directory(dir, ec))
+        fail("{} '{}': folder '{}' does not exist", what, path.string(), dir.string());
+    if (access(dir.c_str(), W_OK) != 0)
+        fail("{} '{}': folder '{}' is not writable", what, path.string(), dir.string());
+    if (fs::is_directory(path, ec)) fail("{} '{}' is a folder", what, path.string());
+}
+
+}  // namespace wp::app

@@ -1,0 +1,43 @@
+// render_options.h — the options that say how to render, shared by `render`, `converge`
+// (its --config option sets) and anything else that renders.
+//
+// add_config_options registers the options that change *how* the image is made (depth,
+// size, device, traversal): everything a converge configuration may set. Options of one
+// render run (samples, time, seed, outputs) belong to each subcommand.
+#pragma once
+
+#include <cstdint>
+#include <filesystem>
+#include <string>
+
+#include <CLI/CLI.hpp>
+
+#include "render/wavefront.h"
+#include "scene/scene.h"
+
+namespace wp::app {
+
+struct ConfigArgs {
+    int depth = 3;
+    std::string size;                    // "WxH"; empty: the scene camera's size
+    std::string device;
+    std::string traversal = "stackless";  // stackless | stack
+};
+
+// Registers --depth, --size, --device, --traversal on `c`.
+void add_config_options(CLI::App* c, ConfigArgs& a);
+
+// Validates the options and fills the settings (size from the scene when not given).
+// Throws wp::Error naming the option.
+render::RenderSettings make_settings(const ConfigArgs& a, const Scene& scene);
+
+// The built-in Cornell box for an empty argument or "builtin:cornell-box", the furnace box
+// of the render tests (emission 0.5, albedo 0.6) for "builtin:closed-box-furnace", else the
+// scene file (.obj).
+Scene load_scene(const std::string& arg);
+
+// Fails unless `path` can be created: a supported extension (when an image), an existing,
+// writable folder, and not itself a folder.
+void check_writable(const std::filesystem::path& path, const char* what, bool image);
+
+}  // namespace wp::app
