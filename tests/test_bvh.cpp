@@ -61,11 +61,14 @@ Aabb triangle_box(const Mesh& m, std::uint32_t i) {
 
 // Reads child `slot` of a device node back into an Aabb.
 Aabb child_box(const BvhNode& n, int slot) {
-    const float* r[3] = {&n.x.x, &n.y.x, &n.z.x};
+    const float* lo[3] = {reinterpret_cast<const float*>(&n.lo_x), reinterpret_cast<const float*>(&n.lo_y),
+                          reinterpret_cast<const float*>(&n.lo_z)};
+    const float* hi[3] = {reinterpret_cast<const float*>(&n.hi_x), reinterpret_cast<const float*>(&n.hi_y),
+                          reinterpret_cast<const float*>(&n.hi_z)};
     Aabb b;
     for (int a = 0; a < 3; ++a) {
-        b.lo[a] = r[a][slot];
-        b.hi[a] = r[a][slot + 2];
+        b.lo[a] = lo[a][slot];
+        b.hi[a] = hi[a][slot];
     }
     return b;
 }
@@ -116,18 +119,32 @@ void check_flat(const Mesh& m, const bvh::FlatBvh& f) {
     std::function<void(int, int)> walk = [&](int i, int depth) {
         visited[i] += 1;
         CHECK(depth <= WP_BVH_MAX_DEPTH);
-        const BvhLinks& l = f.links[i];
-        CHECK(l.pad == 0);
-        int refs[2] = {l.child0, l.child1};
-        for (int s = 0; s < 2; ++s) {
+        CHECK(depth <= f.depth);
+        const BvhNode& nd = f.nodes[i];
+        for (int k = 0; k < WP_BVH_WIDTH; ++k) CHECK((&nd.pad0)[k] == 0);
+        const int* refs = &nd.child0;
+        bool unused_seen = false;
+        int used = 0;
+        for (int s = 0; s < WP_BVH_WIDTH; ++s) {
             int c = refs[s];
             Aabb box = child_box(f.nodes[i], s);
+            if (c == -1 && (n > 0 || s > 0)) {
+                // An unused slot: the inverted box, no used slot after it.
+                CHECK(box.lo == glm::vec3(FLT_MAX));
+                CHECK(box.hi == glm::vec3(-FLT_MAX));
+                unused_seen = true;
+                continue;
+            }
+            CHECK(!unused_seen);
+            ++used;
             if (c >= 0) {
                 REQUIRE(c < static_cast<int>(f.nodes.size()));
                 CHECK(f.links[c].parent == i);  // parent links for the stackless climb
-                Aabb inner = child_box(f.nodes[c], 0);
-                inner.grow(child_box(f.nodes[c], 1));
-                if (f.links[c].child1 != -1) CHECK(box.contains(inner));
+                CHECK(f.links[c].slot == s);
+                Aabb inner;
+                for (int k = 0; k < WP_BVH_WIDTH; ++k)
+                    if ((&f.nodes[c].child0)[k] != -1) inner.grow(child_box(f.nodes[c], k));
+                CHECK(box.contains(inner));
                 walk(c, depth + 1);
             } else {
                 int first = (~c) >> WP_LEAF_COUNT_BITS, count = (~c) & WP_LEAF_MAX_COUNT;
@@ -145,6 +162,8 @@ void check_flat(const Mesh& m, const bvh::FlatBvh& f) {
                 }
             }
         }
+        // Interior nodes are full unless their subtree ran out of interior nodes.
+        if (i > 0 || n > WP_LEAF_MAX_COUNT) CHECK(used >= 2);
     };
     walk(0, 1);
     for (std::size_t k = 0; k < n; ++k) REQUIRE(covered[k] == 1);

@@ -9,6 +9,7 @@
 #include "bvh/device_bvh.h"
 #include "scene/builtin.h"
 #include "scene/procedural.h"
+#include "shared/bvh_traverse.h"
 #include "support.h"
 
 using namespace wp;
@@ -155,4 +156,28 @@ TEST_CASE("an empty scene is all misses", "[kernel][intersect]") {
         for (const auto& h : hits) any_hit += h.prim >= 0 || h.t != FLT_MAX;
         CHECK(any_hit == 0);
     }
+}
+
+// The shared traversal header also compiles as C++ (the host side of compat.h, later
+// CUDA): the host build of every traversal must agree bit for bit with the kernels.
+TEST_CASE("the traversals compiled for the host match the kernels", "[kernel][intersect]") {
+    Scene s = make_cornell_box();
+    Fixture f = make_fixture(Mesh{s.positions, s.triangles});
+    auto rays = test::random_rays(20000, 7, f.lo, f.hi);
+    auto dev_closest = tracer().trace(f.gpu, rays, bvh::TraceVariant::Stackless);
+    auto dev_any = tracer().trace(f.gpu, rays, bvh::TraceVariant::Any);
+    int differ = 0, any_differ = 0;
+    for (std::size_t i = 0; i < rays.size(); ++i) {
+        TraceStats st{0, 0};
+        Hit a = wp::wp_trace_closest(rays[i], f.flat.nodes.data(), f.flat.links.data(), f.flat.triangles.data(),
+                                     f.flat.prim_ids.data(), &st);
+        Hit b = wp::wp_trace_closest_stack(rays[i], f.flat.nodes.data(), f.flat.links.data(),
+                                           f.flat.triangles.data(), f.flat.prim_ids.data(), &st);
+        Hit c = wp::wp_trace_any(rays[i], f.flat.nodes.data(), f.flat.links.data(), f.flat.triangles.data(),
+                                 f.flat.prim_ids.data(), &st);
+        if (std::memcmp(&a, &dev_closest[i], sizeof(Hit)) != 0 || std::memcmp(&b, &a, sizeof(Hit)) != 0) ++differ;
+        if ((c.prim >= 0) != (dev_any[i].prim >= 0)) ++any_differ;
+    }
+    CHECK(differ == 0);
+    CHECK(any_differ == 0);
 }

@@ -1,22 +1,36 @@
-// bvh_traverse.h — closest-hit and any-hit traversal of the two-wide BVH (types.h).
+// bvh_traverse.h — closest-hit and any-hit traversal of the wide BVH (types.h).
 //
-// Three traversals over the same nodes:
-//   * wp_trace_closest: stackless and ordered (near child first). The state is the
-//     current node, a 64-bit "pending" bitstack (one bit per level: the far child is
-//     still to visit) and a 64-bit "order" word (which child was the far one), and
-//     parent links to climb back. After Áfra & Szirmay-Kalos, "Stackless Multi-BVH
-//     Traversal for CPU, MIC and GPU Ray Tracing", CGF 33(1), 2014, and Hapala et al.,
-//     "Efficient Stack-less BVH Traversal for Ray Tracing", SCCG 2011.
-//   * wp_trace_closest_stack: the classic ordered traversal with a 64-entry private
-//     stack that remembers each far child's entry distance; the oracle and the speed
-//     reference for the stackless one.
-//   * wp_trace_any: stackless, unordered (child 0 first), stops at the first hit.
+// Three traversals over the same nodes; each node visit tests all WP_BVH_WIDTH (8) child
+// boxes at once with float8 arithmetic: PoCL does not vectorise traversal loops across
+// work-items, so the SIMD width has to be used inside one (NOTES-pocl.md trap 3).
+//   * wp_trace_closest: stackless and ordered (nearest child first). The state is the
+//     current node, a 64-bit bitstack with one bit per ancestor level ("children may be
+//     left there") and parent links with the node's slot in its parent. Climbing back to
+//     an ancestor re-tests its boxes against the current closest hit and continues with
+//     the nearest child that comes after the one it came from in (entry t, slot) order,
+//     so near-first order is kept without storing it. After Áfra & Szirmay-Kalos,
+//     "Stackless Multi-BVH Traversal for CPU, MIC and GPU Ray Tracing", CGF 33(1), 2014.
+//   * wp_trace_closest_stack: the same order with a private stack of (child, entry t);
+//     the oracle and the speed reference for the stackless one.
+//   * wp_trace_any: stackless like wp_trace_closest, but children in slot order, and it
+//     stops at the first hit.
+// Leaf children are intersected as the order reaches them, without descending.
 //
 // Box tests are conservative (Ize, "Robust BVH Ray Traversal", JCGT 2(2), 2013): the far
 // distance is scaled by 1 + 2*gamma(3), and zero direction components get a reciprocal of
 // 1/FLT_MIN (finite) instead of infinity, so no 0*inf NaN arises. A box whose entry
 // distance equals the current closest t is still visited, so ties are found and broken by
 // the rule in triangle.h.
+//
+// Why wide and why this state (measured with perf on PoCL, see the report in issue 2):
+// the BVH2 stackless kernel was memory-latency bound. Its samples sat on the node loads
+// that follow a backtrack, and a backtrack serialised its cache misses: ctz, then k
+// dependent parent-link loads, then the far child's link load, then the node load, with
+// a data-dependent climb loop (a mispredicted exit) and the bitstack spilled to the stack
+// frame. The stack kernel pops the next node index from an L1-resident array, so its
+// next miss starts at once. The eight-wide layout halves the levels (fewer climbs and
+// fewer serial misses per ray), keeps the child references in the node (no dependent
+// link load on the way down) and the up-links in a dense 8-byte array (cheap climbs).
 #ifndef WP_BVH_TRAVERSE_H
 #define WP_BVH_TRAVERSE_H
 
@@ -31,47 +45,112 @@ WP_NAMESPACE_BEGIN
 // winner would depend on the traversal order. 1 + 2^-14.
 #define WP_HIT_CULL_SCALE 1.00006104f
 
-// Per-ray constants of the box test.
+// Width-generic vector helpers over WpLanes (types.h).
+#if WP_BVH_WIDTH == 8
+#define wp_wsplat wp_splat8
+#define wp_wmask_le wp_mask8_le
+#define wp_wmask_lt wp_mask8_lt
+#define wp_wmask_eq wp_mask8_eq
+#define wp_wlane wp_lane8
+#else
+#define wp_wsplat wp_splat4
+#define wp_wmask_le wp_mask4_le
+#define wp_wmask_lt wp_mask4_lt
+#define wp_wmask_eq wp_mask4_eq
+#define wp_wlane wp_lane4
+#endif
+#define WP_SLOTS_ALL ((1 << WP_BVH_WIDTH) - 1)
+// Slots after slot s (a mask).
+#define WP_SLOTS_AFTER(s) ((WP_SLOTS_ALL << ((s) + 1)) & WP_SLOTS_ALL)
+
+// Per-ray constants of the four-wide box test.
 typedef struct BoxRay {
-    float ox, oy, oz;
-    float ix, iy, iz;  // safe reciprocal direction
-    float tmin;
+    WpLanes ox, oy, oz;  // origin, broadcast
+    WpLanes ix, iy, iz;  // safe reciprocal direction, broadcast
+    WpLanes tmin;        // broadcast
+    int nx, ny, nz;     // row of the near plane per axis in BvhNode (2 * axis + (dir < 0))
 } BoxRay;
 
-WP_FN float wp_safe_rcp(float d) { return 1.0f / (fabs(d) >= FLT_MIN ? d : copysign(FLT_MIN, d)); }
+// 1/d with |d| clamped to [FLT_MIN, 2^126], so the result is finite and never denormal.
+// The upper clamp matters on PoCL: LLVM packs the three divides into one four-lane divide
+// whose spare lane holds dir.w (tmax, often FLT_MAX), and 1/FLT_MAX is denormal: a
+// microcode assist on every ray (13% of the four-wide closest-hit kernel's samples).
+WP_FN float wp_safe_rcp(float d) { return 1.0f / copysign(min(max(fabs(d), FLT_MIN), 0x1p126f), d); }
 
 WP_FN BoxRay wp_box_ray(Ray ray) {
     BoxRay b;
-    b.ox = ray.org.x;
-    b.oy = ray.org.y;
-    b.oz = ray.org.z;
-    b.ix = wp_safe_rcp(ray.dir.x);
-    b.iy = wp_safe_rcp(ray.dir.y);
-    b.iz = wp_safe_rcp(ray.dir.z);
-    b.tmin = ray.org.w;
+    float ix = wp_safe_rcp(ray.dir.x), iy = wp_safe_rcp(ray.dir.y), iz = wp_safe_rcp(ray.dir.z);
+    b.ox = wp_wsplat(ray.org.x);
+    b.oy = wp_wsplat(ray.org.y);
+    b.oz = wp_wsplat(ray.org.z);
+    b.ix = wp_wsplat(ix);
+    b.iy = wp_wsplat(iy);
+    b.iz = wp_wsplat(iz);
+    b.tmin = wp_wsplat(ray.org.w);
+    b.nx = ix < 0.0f ? 1 : 0;
+    b.ny = iy < 0.0f ? 3 : 2;
+    b.nz = iz < 0.0f ? 5 : 4;
     return b;
 }
 
-// Tests both child boxes of a node against [tmin, tmax]. Returns a bit mask (bit 0: child
-// 0 hit, bit 1: child 1 hit) and the entry distances.
-WP_FN int wp_intersect_node(const BoxRay* r, BvhNode n, float tmax, float* t0, float* t1) {
-    // Lanes (lo0, lo1, hi0, hi1) of each axis become slab distances; swapping halves and
-    // taking min/max sorts them into entry (lanes x,y) and exit (lanes z,w) per child.
-    float4 tx = (n.x - r->ox) * r->ix;
-    float4 ty = (n.y - r->oy) * r->iy;
-    float4 tz = (n.z - r->oz) * r->iz;
-    float4 sx = wp_swap_halves(tx), sy = wp_swap_halves(ty), sz = wp_swap_halves(tz);
-    float4 tnear = max(max(min(tx, sx), min(ty, sy)), min(tz, sz));
-    float4 tfar = min(min(max(tx, sx), max(ty, sy)), max(tz, sz));
-    float near0 = max(tnear.x, r->tmin), near1 = max(tnear.y, r->tmin);
+// Tests the child boxes of a node against [tmin, tcull]. Returns a bit mask (bit i: child
+// i hit) and the entry distances (lane i: child i; max(entry, tmin)).
+WP_FN int wp_intersect_node(const BoxRay* r, WP_GLOBAL const BvhNode* node, float tcull, WpLanes* tnear) {
+    WP_GLOBAL const WpLanes* rows = (WP_GLOBAL const WpLanes*)node;
+    WpLanes nx = (rows[r->nx] - r->ox) * r->ix;
+    WpLanes ny = (rows[r->ny] - r->oy) * r->iy;
+    WpLanes nz = (rows[r->nz] - r->oz) * r->iz;
+    WpLanes fx = (rows[r->nx ^ 1] - r->ox) * r->ix;
+    WpLanes fy = (rows[r->ny ^ 1] - r->oy) * r->iy;
+    WpLanes fz = (rows[r->nz ^ 1] - r->oz) * r->iz;
+    WpLanes tn = max(max(nx, ny), max(nz, r->tmin));
     // The far bound (box exit or current closest t) is widened, so rounding in either
     // never culls a box whose true entry lies before it.
-    float tcull = tmax * WP_HIT_CULL_SCALE;
-    float far0 = min(tfar.x * WP_BOX_FAR_SCALE, tcull);
-    float far1 = min(tfar.y * WP_BOX_FAR_SCALE, tcull);
-    *t0 = near0;
-    *t1 = near1;
-    return (near0 <= far0 ? 1 : 0) | (near1 <= far1 ? 2 : 0);
+    WpLanes tf = min(min(min(fx, fy), fz) * WP_BOX_FAR_SCALE, wp_wsplat(tcull));
+    *tnear = tn;
+    return wp_wmask_le(tn, tf);
+}
+
+// The child reference in slot s of node `cur`.
+WP_FN int wp_child(WP_GLOBAL const BvhNode* nodes, int cur, int s) {
+    return (&nodes[cur].child0)[s];
+}
+
+// The candidate with the smallest (entry t, slot), and the one with the largest.
+WP_FN int wp_nearest(WpLanes t, int cand) {
+    int best = wp_ctz32((uint)cand);
+    int rest = cand & (cand - 1);
+    if (rest == 0) return best;  // one candidate (the common case)
+    float bt = wp_wlane(t, best);
+    for (; rest != 0; rest &= rest - 1) {
+        int i = wp_ctz32((uint)rest);
+        float ti = wp_wlane(t, i);
+        if (ti < bt) {
+            bt = ti;
+            best = i;
+        }
+    }
+    return best;
+}
+
+WP_FN int wp_farthest(WpLanes t, int cand) {
+    int best = wp_ctz32((uint)cand);
+    float bt = wp_wlane(t, best);
+    for (int rest = cand & (cand - 1); rest != 0; rest &= rest - 1) {
+        int i = wp_ctz32((uint)rest);
+        float ti = wp_wlane(t, i);
+        if (ti >= bt) {  // ties: the larger slot is the farther
+            bt = ti;
+            best = i;
+        }
+    }
+    return best;
+}
+
+// Slots whose (entry t, slot) comes after slot sc's.
+WP_FN int wp_after(WpLanes t, int sc) {
+    WpLanes tc = wp_wsplat(wp_wlane(t, sc));
+    return wp_wmask_lt(tc, t) | (wp_wmask_eq(t, tc) & WP_SLOTS_AFTER(sc));
 }
 
 WP_FN int wp_leaf_first(int ref) { return (~ref) >> WP_LEAF_COUNT_BITS; }
@@ -81,6 +160,7 @@ WP_FN int wp_leaf_count(int ref) { return (~ref) & WP_LEAF_MAX_COUNT; }
 // Returns 1 when any triangle was hit (the any-hit traversal stops there).
 WP_FN int wp_intersect_leaf(const TriRay* tr, int ref, WP_GLOBAL const Triangle* tris,
                             WP_GLOBAL const int* prim_ids, Hit* hit, TraceStats* stats) {
+    (void)stats;  // used only with WP_STATS
     int first = wp_leaf_first(ref), count = wp_leaf_count(ref);
     int any = 0;
     for (int i = first; i < first + count; ++i) {
@@ -112,61 +192,54 @@ WP_FN Hit wp_miss(Ray ray) {
     return h;
 }
 
-// Stackless traversal shared by closest hit (ordered) and any hit (unordered, early out).
+// Stackless traversal shared by closest hit (ordered) and any hit (slot order, early out).
 WP_FN Hit wp_trace_stackless(Ray ray, WP_GLOBAL const BvhNode* nodes,
                              WP_GLOBAL const BvhLinks* links, WP_GLOBAL const Triangle* tris,
                              WP_GLOBAL const int* prim_ids, int any_hit, TraceStats* stats) {
     Hit hit = wp_miss(ray);
     BoxRay br = wp_box_ray(ray);
     TriRay tr = wp_tri_ray(ray);
-    ulong pending = 0;  // bit k: the far child at depth (current - k) is still to visit
-    ulong order = 0;    // bit k: that far child is child 0 (the near one was child 1)
+    ulong bits = 0;  // bit k: the ancestor k + 1 levels above `cur` may have children left
     int cur = 0;
+    int sc = -1;     // slot of the child we climbed back from; -1 on a first visit
     for (;;) {
-        // Visit the interior node `cur`: test both children, push one level of state.
-        float t0, t1;
-        int mask = wp_intersect_node(&br, nodes[cur], hit.t, &t0, &t1);
+        WpLanes tn;
+        int cand = wp_intersect_node(&br, nodes + cur, hit.t * WP_HIT_CULL_SCALE, &tn);
 #if defined(WP_STATS)
-        stats->box_tests += 2;
+        stats->box_tests += WP_BVH_WIDTH;
 #endif
-        BvhLinks l = links[cur];
-        int next;
-        if (mask == 3) {
-            int swap = any_hit ? 0 : (t1 < t0);
-            next = swap ? l.child1 : l.child0;
-            pending = (pending << 1) | 1;
-            order = (order << 1) | (ulong)swap;
-        } else {
-            next = mask == 1 ? l.child0 : l.child1;
-            pending <<= 1;
-            order <<= 1;
-            if (mask == 0) next = -1;  // an empty leaf: go straight to backtracking
+        if (sc >= 0) cand &= any_hit ? WP_SLOTS_AFTER(sc) : wp_after(tn, sc);
+        // Children in order: leaves at once, the first interior child is descended into.
+        int next = -1;
+        while (cand != 0) {
+            int s = any_hit ? wp_ctz32((uint)cand) : wp_nearest(tn, cand);
+            cand &= ~(1 << s);
+            int c = wp_child(nodes, cur, s);
+            if (c >= 0) {
+                next = c;
+                break;
+            }
+            if (wp_intersect_leaf(&tr, c, tris, prim_ids, &hit, stats)) {
+                if (any_hit) return hit;
+                // Drop the children that now start behind the closest hit.
+                cand &= wp_wmask_le(tn, wp_wsplat(hit.t * WP_HIT_CULL_SCALE));
+            }
         }
-        // Leaves and pending far children until an interior node is reached.
-        for (;;) {
-            if (next >= 0) break;
-            if (next != -1 && wp_intersect_leaf(&tr, next, tris, prim_ids, &hit, stats) && any_hit)
-                return hit;
-            // Backtrack: climb to the deepest level with a pending far child.
-            if (pending == 0) return hit;
-            int up = wp_ctz64(pending);
-            pending >>= up;
-            order >>= up;
-            for (int k = 0; k < up; ++k) cur = links[cur].parent;
-            pending ^= 1;
-            BvhLinks pl = links[cur];
-            next = (order & 1) ? pl.child0 : pl.child1;
-#if defined(WP_STACKLESS_RETEST)
-            // Re-test the far child: the closest hit may have moved in front of it.
-            float r0, r1;
-            int m = wp_intersect_node(&br, nodes[cur], hit.t, &r0, &r1);
-#if defined(WP_STATS)
-            stats->box_tests += 1;
-#endif
-            if (!(m & ((order & 1) ? 1 : 2))) next = -1;
-#endif
+        if (next >= 0) {
+            bits = (bits << 1) | (cand != 0 ? 1u : 0u);
+            cur = next;
+            sc = -1;
+            continue;
         }
-        cur = next;
+        // Climb to the deepest ancestor that may have children left, and re-test it.
+        if (bits == 0) return hit;
+        int k = wp_ctz64(bits);
+        bits = (bits >> k) >> 1;
+        for (int j = 0; j <= k; ++j) {
+            BvhLinks l = links[cur];
+            sc = l.slot;
+            cur = l.parent;
+        }
     }
 }
 
@@ -182,38 +255,47 @@ WP_FN Hit wp_trace_any(Ray ray, WP_GLOBAL const BvhNode* nodes, WP_GLOBAL const 
     return wp_trace_stackless(ray, nodes, links, tris, prim_ids, 1, stats);
 }
 
-// Ordered traversal with a private stack of (child reference, entry distance).
+// Ordered traversal with a private stack of (child reference, entry distance): the same
+// visiting order as wp_trace_closest, the remaining children pushed far to near.
 WP_FN Hit wp_trace_closest_stack(Ray ray, WP_GLOBAL const BvhNode* nodes,
                                  WP_GLOBAL const BvhLinks* links, WP_GLOBAL const Triangle* tris,
                                  WP_GLOBAL const int* prim_ids, TraceStats* stats) {
+    (void)links;  // same arguments as the stackless traversal; the stack needs no up-links
     Hit hit = wp_miss(ray);
     BoxRay br = wp_box_ray(ray);
     TriRay tr = wp_tri_ray(ray);
-    int stack_ref[WP_BVH_MAX_DEPTH];
-    float stack_t[WP_BVH_MAX_DEPTH];
+    int stack_ref[WP_BVH_STACK_SIZE];
+    float stack_t[WP_BVH_STACK_SIZE];
     int sp = 0;
     int next = 0;
     for (;;) {
         if (next >= 0) {
-            // Interior node: near child next, far child on the stack.
-            float t0, t1;
-            int mask = wp_intersect_node(&br, nodes[next], hit.t, &t0, &t1);
+            int cur = next;
+            WpLanes tn;
+            int cand = wp_intersect_node(&br, nodes + cur, hit.t * WP_HIT_CULL_SCALE, &tn);
 #if defined(WP_STATS)
-            stats->box_tests += 2;
+            stats->box_tests += WP_BVH_WIDTH;
 #endif
-            BvhLinks l = links[next];
-            if (mask == 3) {
-                int swap = t1 < t0;
-                stack_ref[sp] = swap ? l.child0 : l.child1;
-                stack_t[sp] = swap ? t0 : t1;
+            next = -1;
+            while (cand != 0) {
+                int s = wp_nearest(tn, cand);
+                cand &= ~(1 << s);
+                int c = wp_child(nodes, cur, s);
+                if (c >= 0) {
+                    next = c;
+                    break;
+                }
+                if (wp_intersect_leaf(&tr, c, tris, prim_ids, &hit, stats))
+                    cand &= wp_wmask_le(tn, wp_wsplat(hit.t * WP_HIT_CULL_SCALE));
+            }
+            while (cand != 0) {
+                int s = wp_farthest(tn, cand);
+                cand &= ~(1 << s);
+                stack_ref[sp] = wp_child(nodes, cur, s);
+                stack_t[sp] = wp_wlane(tn, s);
                 ++sp;
-                next = swap ? l.child1 : l.child0;
-                continue;
             }
-            if (mask != 0) {
-                next = mask == 1 ? l.child0 : l.child1;
-                continue;
-            }
+            if (next >= 0) continue;
         } else if (next != -1) {
             wp_intersect_leaf(&tr, next, tris, prim_ids, &hit, stats);
         }

@@ -64,6 +64,9 @@ struct float2 { float x, y; };
 struct float3 { float x, y, z; };
 struct alignas(16) float4 { float x, y, z, w; };
 struct alignas(16) int4 { int x, y, z, w; };
+// Eight lanes; shared code reaches them only through the wp_*8 helpers below.
+struct alignas(32) float8 { float s[8]; };
+static_assert(sizeof(float8) == 32);
 struct alignas(8) int2 { int x, y; };
 struct alignas(8) uint2 { uint x, y; };
 static_assert(sizeof(float4) == 16 && alignof(float4) == 16);
@@ -170,6 +173,95 @@ WP_FN int wp_ctz64(ulong x) {
     return (int)popcount((x & (0 - x)) - 1);
 #else
     return __builtin_ctzll(x);
+#endif
+}
+
+// Four- and eight-lane comparisons as bit masks (bit i: lane i compares true), lane
+// access by a run-time index, and broadcasts, for the wide BVH.
+#if defined(WP_OPENCL)
+WP_FN int wp_mask4(int4 c) { return (c.x & 1) | (c.y & 2) | (c.z & 4) | (c.w & 8); }
+WP_FN int wp_mask4_le(float4 a, float4 b) { return wp_mask4(a <= b); }
+WP_FN int wp_mask4_lt(float4 a, float4 b) { return wp_mask4(a < b); }
+WP_FN int wp_mask4_eq(float4 a, float4 b) { return wp_mask4(a == b); }
+WP_FN int wp_mask8(int8 c) {
+    return (c.s0 & 1) | (c.s1 & 2) | (c.s2 & 4) | (c.s3 & 8) | (c.s4 & 16) | (c.s5 & 32) | (c.s6 & 64) |
+           (c.s7 & 128);
+}
+WP_FN int wp_mask8_le(float8 a, float8 b) { return wp_mask8(a <= b); }
+WP_FN int wp_mask8_lt(float8 a, float8 b) { return wp_mask8(a < b); }
+WP_FN int wp_mask8_eq(float8 a, float8 b) { return wp_mask8(a == b); }
+WP_FN float8 wp_splat8(float s) { return (float8)(s); }
+#else
+WP_FN int wp_mask4_le(float4 a, float4 b) {
+    return (a.x <= b.x ? 1 : 0) | (a.y <= b.y ? 2 : 0) | (a.z <= b.z ? 4 : 0) | (a.w <= b.w ? 8 : 0);
+}
+WP_FN int wp_mask4_lt(float4 a, float4 b) {
+    return (a.x < b.x ? 1 : 0) | (a.y < b.y ? 2 : 0) | (a.z < b.z ? 4 : 0) | (a.w < b.w ? 8 : 0);
+}
+WP_FN int wp_mask4_eq(float4 a, float4 b) {
+    return (a.x == b.x ? 1 : 0) | (a.y == b.y ? 2 : 0) | (a.z == b.z ? 4 : 0) | (a.w == b.w ? 8 : 0);
+}
+inline float8 operator-(const float8& a, const float8& b) {
+    float8 r;
+    for (int i = 0; i < 8; ++i) r.s[i] = a.s[i] - b.s[i];
+    return r;
+}
+inline float8 operator*(const float8& a, const float8& b) {
+    float8 r;
+    for (int i = 0; i < 8; ++i) r.s[i] = a.s[i] * b.s[i];
+    return r;
+}
+inline float8 operator*(const float8& a, float b) {
+    float8 r;
+    for (int i = 0; i < 8; ++i) r.s[i] = a.s[i] * b;
+    return r;
+}
+inline float8 min(const float8& a, const float8& b) {
+    float8 r;
+    for (int i = 0; i < 8; ++i) r.s[i] = min(a.s[i], b.s[i]);
+    return r;
+}
+inline float8 max(const float8& a, const float8& b) {
+    float8 r;
+    for (int i = 0; i < 8; ++i) r.s[i] = max(a.s[i], b.s[i]);
+    return r;
+}
+inline int wp_mask8_le(const float8& a, const float8& b) {
+    int m = 0;
+    for (int i = 0; i < 8; ++i) m |= a.s[i] <= b.s[i] ? 1 << i : 0;
+    return m;
+}
+inline int wp_mask8_lt(const float8& a, const float8& b) {
+    int m = 0;
+    for (int i = 0; i < 8; ++i) m |= a.s[i] < b.s[i] ? 1 << i : 0;
+    return m;
+}
+inline int wp_mask8_eq(const float8& a, const float8& b) {
+    int m = 0;
+    for (int i = 0; i < 8; ++i) m |= a.s[i] == b.s[i] ? 1 << i : 0;
+    return m;
+}
+inline float8 wp_splat8(float v) {
+    float8 r;
+    for (int i = 0; i < 8; ++i) r.s[i] = v;
+    return r;
+}
+#endif
+// Lane i (0..3) of a float4, without going through memory.
+WP_FN float wp_lane4(float4 v, int i) { return i == 0 ? v.x : (i == 1 ? v.y : (i == 2 ? v.z : v.w)); }
+#if defined(WP_OPENCL)
+WP_FN float wp_lane8(float8 v, int i) { return i < 4 ? wp_lane4(v.lo, i) : wp_lane4(v.hi, i - 4); }
+#else
+inline float wp_lane8(const float8& v, int i) { return v.s[i]; }
+#endif
+// Broadcast.
+WP_FN float4 wp_splat4(float s) { return make_float4(s, s, s, s); }
+// Number of trailing zero bits of a non-zero 32-bit word (see wp_ctz64).
+WP_FN int wp_ctz32(uint x) {
+#if defined(WP_OPENCL)
+    return (int)popcount((x & (0u - x)) - 1u);
+#else
+    return __builtin_ctz(x);
 #endif
 }
 

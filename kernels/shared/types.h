@@ -36,36 +36,90 @@ typedef struct Triangle {
     float4 v2;  // xyz: vertex 2; w: 0
 } Triangle;
 
-// --- Stackless BVH2 (see src/bvh/flatten.h for how it is built) ----------------------
-// Every interior node stores the boxes of its two children, one float4 row per axis, so
-// one node visit tests both children with three float4 slab computations. 48 bytes.
+// --- Stackless wide BVH (see src/bvh/flatten.h for how it is built) -----------------
+// A binary SAH tree collapsed to up to WP_BVH_WIDTH (8, or 4) children per interior node.
+// Each node stores the boxes of its children as SoA rows, one WpLanes vector (float8, or
+// float4) per bound and axis, lane i = child slot i, so one node visit tests all children
+// with six vector slab computations (one AVX/SSE instruction each); the row order lets a
+// ray pick its near/far plane per axis by index (row 2*axis + sign). The child references
+// follow in integer fields of the same node, so the fetch that feeds the box test also
+// yields the next node's index (no dependent load on the descent path).
+// WP_BVH_WIDTH is the one switch (host and kernels both read it here); tests/test_layout
+// checks that both sides agree.
+#define WP_BVH_WIDTH 8
+#if WP_BVH_WIDTH == 8
+typedef float8 WpLanes;
+// 256 bytes (four cache lines).
 typedef struct BvhNode {
-    float4 x;  // (child0.lo.x, child1.lo.x, child0.hi.x, child1.hi.x), world units
-    float4 y;  // same for y
-    float4 z;  // same for z
+    float8 lo_x;  // lane i: child i's box lower x (world units)
+    float8 hi_x;  // lane i: child i's box upper x
+    float8 lo_y;  // same for y
+    float8 hi_y;
+    float8 lo_z;  // same for z
+    float8 hi_z;
+    int child0;   // child reference of slot 0 (below); the eight are read as int[8]
+    int child1;
+    int child2;
+    int child3;
+    int child4;
+    int child5;
+    int child6;
+    int child7;   // slot 7
+    int pad0;     // 0 (pads the node to 256 bytes)
+    int pad1;     // 0
+    int pad2;     // 0
+    int pad3;     // 0
+    int pad4;     // 0
+    int pad5;     // 0
+    int pad6;     // 0
+    int pad7;     // 0
 } BvhNode;
-
-// Links of an interior node, in a separate integer array (no integers in float lanes).
+#else
+typedef float4 WpLanes;
+// 128 bytes (two cache lines).
+typedef struct BvhNode {
+    float4 lo_x;  // lane i: child i's box lower x (world units)
+    float4 hi_x;  // lane i: child i's box upper x
+    float4 lo_y;  // same for y
+    float4 hi_y;
+    float4 lo_z;  // same for z
+    float4 hi_z;
+    int child0;   // child reference of slot 0 (below); the four are read as int[4]
+    int child1;
+    int child2;
+    int child3;   // slot 3
+    int pad0;     // 0 (pads the node to 128 bytes)
+    int pad1;     // 0
+    int pad2;     // 0
+    int pad3;     // 0
+} BvhNode;
+#endif
 // A child reference c is an interior node index when c >= 0, else a leaf:
 //   ~c = (first << WP_LEAF_COUNT_BITS) | count, triangles [first, first + count) of the
-//   leaf-ordered triangle array. count may be 0 (the empty second child of a root that
-//   is a single leaf; its box is the point (FLT_MAX, FLT_MAX, FLT_MAX)). 16 bytes.
+//   leaf-ordered triangle array. count 0 (c = -1) is the empty leaf of unused slots.
+// An unused slot (a node with fewer than WP_BVH_WIDTH children) holds the inverted box
+// lo = +FLT_MAX, hi = -FLT_MAX in every axis, which no ray enters (its entry distance lies
+// beyond its exit whatever the direction's sign, zero components included), and child
+// reference -1. Used slots come first.
+
+// Up-links of an interior node, in a separate dense integer array (8 bytes a node, so the
+// climb of the stackless traversal touches little memory).
 typedef struct BvhLinks {
-    int child0;  // child reference (see above)
-    int child1;  // child reference
     int parent;  // parent interior node index; -1 at the root (node 0)
-    int pad;     // 0
+    int slot;    // this node's slot in its parent (0..WP_BVH_WIDTH-1); 0 at the root
 } BvhLinks;
 
 #define WP_LEAF_COUNT_BITS 5
 #define WP_LEAF_MAX_COUNT 31
 // The stackless traversal keeps one bit per level in a 64-bit word: the builder caps the
-// number of interior levels at this.
+// number of interior levels of the binary tree at this, and collapsing never adds levels.
 #define WP_BVH_MAX_DEPTH 64
+// Entries of the small-stack (oracle) traversal: at most WIDTH - 1 pending children a level.
+#define WP_BVH_STACK_SIZE ((WP_BVH_WIDTH - 1) * WP_BVH_MAX_DEPTH)
 
 // Per-ray traversal statistics, written only by kernels compiled with WP_STATS. 8 bytes.
 typedef struct TraceStats {
-    int box_tests;  // child boxes tested (2 per interior node visit, 1 per re-test)
+    int box_tests;  // child boxes tested (WP_BVH_WIDTH per node test, re-tests included)
     int tri_tests;  // ray/triangle tests
 } TraceStats;
 
@@ -76,9 +130,10 @@ typedef struct TraceStats {
     X(sizeof(Hit)) X(__builtin_offsetof(Hit, prim)) X(__builtin_offsetof(Hit, u))          \
     X(__builtin_offsetof(Hit, v))                                                         \
     X(sizeof(Triangle)) X(__builtin_offsetof(Triangle, v1)) X(__builtin_offsetof(Triangle, v2)) \
-    X(sizeof(BvhNode)) X(__builtin_offsetof(BvhNode, y)) X(__builtin_offsetof(BvhNode, z)) \
-    X(sizeof(BvhLinks)) X(__builtin_offsetof(BvhLinks, child1))                           \
-    X(__builtin_offsetof(BvhLinks, parent)) X(sizeof(TraceStats))                        \
+    X(sizeof(BvhNode)) X(__builtin_offsetof(BvhNode, hi_x)) X(__builtin_offsetof(BvhNode, hi_z)) \
+    X(__builtin_offsetof(BvhNode, child0)) X(__builtin_offsetof(BvhNode, pad0))           \
+    X(sizeof(BvhLinks)) X(__builtin_offsetof(BvhLinks, slot))                             \
+    X(sizeof(TraceStats))                                                                 \
     /* Render stage types */                                                              \
     X(sizeof(CameraData)) X(__builtin_offsetof(CameraData, forward))                      \
     X(__builtin_offsetof(CameraData, up)) X(__builtin_offsetof(CameraData, width))        \
@@ -153,9 +208,18 @@ WP_NAMESPACE_END
 static_assert(sizeof(wp::Ray) == 32 && offsetof(wp::Ray, dir) == 16);
 static_assert(sizeof(wp::Hit) == 16 && offsetof(wp::Hit, prim) == 4 && offsetof(wp::Hit, v) == 12);
 static_assert(sizeof(wp::Triangle) == 48 && offsetof(wp::Triangle, v2) == 32);
-static_assert(sizeof(wp::BvhNode) == 48 && offsetof(wp::BvhNode, z) == 32);
-static_assert(sizeof(wp::BvhLinks) == 16 && offsetof(wp::BvhLinks, parent) == 8);
+#if WP_BVH_WIDTH == 8
+static_assert(sizeof(wp::BvhNode) == 256 && offsetof(wp::BvhNode, hi_x) == 32 &&
+              offsetof(wp::BvhNode, hi_z) == 160 && offsetof(wp::BvhNode, child0) == 192 &&
+              offsetof(wp::BvhNode, pad0) == 224);
+#else
+static_assert(sizeof(wp::BvhNode) == 128 && offsetof(wp::BvhNode, hi_x) == 16 &&
+              offsetof(wp::BvhNode, hi_z) == 80 && offsetof(wp::BvhNode, child0) == 96 &&
+              offsetof(wp::BvhNode, pad0) == 112);
+#endif
+static_assert(sizeof(wp::BvhLinks) == 8 && offsetof(wp::BvhLinks, slot) == 4);
 static_assert(sizeof(wp::TraceStats) == 8);
+// Render stage types.
 static_assert(sizeof(wp::CameraData) == 80 && offsetof(wp::CameraData, width) == 64 &&
               offsetof(wp::CameraData, jitter) == 72);
 static_assert(sizeof(wp::MaterialData) == 48 && offsetof(wp::MaterialData, kind) == 32);

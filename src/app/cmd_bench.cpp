@@ -80,8 +80,8 @@ int run_intersect(const IntersectOptions& o) {
     auto built = build_bvh(scene, o.builds);
     fmt::print("scene: {} ({} triangles), camera {}x{}\n", scene_name, scene.triangles.size(), scene.camera.width,
                scene.camera.height);
-    fmt::print("BVH: {:.2f} ms build (median of {}), {} nodes, depth {}, SAH cost {:.1f}\n", built.build_ms, o.builds,
-               built.nodes, built.flat.depth, built.sah);
+    fmt::print("BVH: {:.2f} ms build (median of {}), {}-wide, {} nodes of {} bytes, depth {}, SAH cost {:.1f}\n",
+               built.build_ms, o.builds, WP_BVH_WIDTH, built.nodes, sizeof(BvhNode), built.flat.depth, built.sah);
 
     // Device, programs, buffers.
     auto dev = ocl::Device::open(o.device);
@@ -106,15 +106,16 @@ int run_intersect(const IntersectOptions& o) {
     json report;
     report["scene"] = {{"name", scene_name}, {"triangles", scene.triangles.size()}};
     report["bvh"] = {{"build_ms", built.build_ms}, {"nodes", built.nodes}, {"depth", built.flat.depth},
-                     {"sah_cost", built.sah}};
+                     {"sah_cost", built.sah}, {"width", WP_BVH_WIDTH}, {"node_bytes", sizeof(BvhNode)},
+                     {"box_tests_per_node_test", WP_BVH_WIDTH}};
     report["device"] = {{"platform", dev.info.platform}, {"name", dev.info.name}, {"driver", dev.info.driver}};
     report["program_build_ms"] = program_ms;
     report["program_from_cache"] = tracer.program().from_cache;
     report["runs"] = o.runs;
     report["sets"] = json::array();
 
-    fmt::print("\n{:<8} {:>8}  {:<10} {:>9} {:>9} {:>8} {:>8} {:>11}\n", "rays", "count", "traversal", "Mrays/s",
-               "first ms", "box/ray", "tri/ray", "vs Embree2T");
+    fmt::print("\n{:<8} {:>8}  {:<10} {:>9} {:>9} {:>8} {:>8} {:>11} {:>11}\n", "rays", "count", "traversal", "Mrays/s",
+               "first ms", "box/ray", "tri/ray", "vs Embree1T", "vs Embree2T");
     struct SetDesc {
         const char* name;
         const std::vector<Ray>* rays;
@@ -187,11 +188,13 @@ int run_intersect(const IntersectOptions& o) {
                 }
                 agree = static_cast<double>(same) / rays.size();
             }
+            std::string ratio1 = embree ? fmt::format("{:.2f}x", mrays / embree_1t) : "-";
             std::string ratio = embree ? fmt::format("{:.2f}x", mrays / embree_2t) : "-";
-            fmt::print("{:<8} {:>8}  {:<10} {:>9.2f} {:>9.1f} {:>8.1f} {:>8.2f} {:>11}\n", sd.name, n, to_string(v),
-                       mrays, first_ms, box, tri, ratio);
+            fmt::print("{:<8} {:>8}  {:<10} {:>9.2f} {:>9.1f} {:>8.1f} {:>8.2f} {:>11} {:>11}\n", sd.name, n,
+                       to_string(v), mrays, first_ms, box, tri, ratio1, ratio);
             json jv = {{"traversal", to_string(v)}, {"mrays", mrays}, {"median_ms", median(ms)}, {"runs_ms", ms},
-                       {"first_launch_ms", first_ms}, {"box_tests_per_ray", box}, {"tri_tests_per_ray", tri}};
+                       {"first_launch_ms", first_ms}, {"box_tests_per_ray", box}, {"tri_tests_per_ray", tri},
+                       {"node_tests_per_ray", box / WP_BVH_WIDTH}};
             if (embree) {
                 jv["ratio_vs_embree_2t"] = mrays / embree_2t;
                 jv["ratio_vs_embree_1t"] = mrays / embree_1t;
@@ -228,6 +231,8 @@ int run_build(int repeats, const std::string& json_path) {
         bvh::Bvh b;
         bvh::BuildOptions single;
         single.threads = 1;
+        std::vector<double> fms;
+        bvh::FlatBvh flat;
         for (int i = 0; i < repeats; ++i) {
             Timer t;
             b = bvh::build(boxes);
@@ -235,11 +240,17 @@ int run_build(int repeats, const std::string& json_path) {
             Timer t1;
             bvh::build(boxes, single);
             ms1.push_back(t1.ms());
+            Timer tf;
+            flat = bvh::flatten(b, pos, tris);
+            fms.push_back(tf.ms());
         }
-        fmt::print("{:<28} {:>8} triangles  {:>8.2f} ms (all threads)  {:>8.2f} ms (1 thread)  depth {}  SAH {:.1f}\n",
-                   name, tris.size(), median(ms), median(ms1), b.depth, bvh::sah_cost(b));
+        fmt::print("{:<28} {:>8} triangles  {:>8.2f} ms (all threads)  {:>8.2f} ms (1 thread)  depth {}  SAH {:.1f}"
+                   "  + flatten to {}-wide {:.2f} ms (depth {})\n",
+                   name, tris.size(), median(ms), median(ms1), b.depth, bvh::sah_cost(b), WP_BVH_WIDTH, median(fms),
+                   flat.depth);
         report.push_back({{"mesh", name}, {"triangles", tris.size()}, {"build_ms", median(ms)},
-                          {"build_ms_1thread", median(ms1)}, {"depth", b.depth}, {"sah_cost", bvh::sah_cost(b)}});
+                          {"build_ms_1thread", median(ms1)}, {"depth", b.depth}, {"sah_cost", bvh::sah_cost(b)},
+                          {"flatten_ms", median(fms)}, {"width", WP_BVH_WIDTH}, {"flat_depth", flat.depth}});
     };
     Scene box = make_cornell_box();
     one("built-in cornell-box", box.positions, box.triangles);

@@ -26,8 +26,8 @@ void add_config_options(CLI::App* c, ConfigArgs& a) {
                   "'platform: name' (default: the first GPU, else the first device)");
     c->add_option("--traversal", a.traversal,
                   "Closest-hit BVH traversal of the intersect stage: stackless (ordered, "
-                  "the default) or stack (small private stack; needs the wavefront entry "
-                  "intersect_closest_stack in kernels/intersect.cl)")
+                  "the default) or stack (the small private-stack traversal, kept as the "
+                  "oracle and speed reference)")
         ->capture_default_str();
 }
 

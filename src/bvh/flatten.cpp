@@ -1,5 +1,6 @@
 #include "bvh/flatten.h"
 
+#include <algorithm>
 #include <cfloat>
 
 #include "util/error.h"
@@ -13,43 +14,69 @@ constexpr int kEmptyLeaf = -1;  // ~0: first 0, count 0
 struct Flattener {
     const Bvh& bvh;
     FlatBvh& out;
+    int max_level = 0;
 
-    void set_child(BvhNode& dn, int slot, const Aabb& b) {
-        float* rows[3] = {&dn.x.x, &dn.y.x, &dn.z.x};
+    static void set_child(BvhNode& dn, int slot, const Aabb& b) {
+        float* lo[3] = {reinterpret_cast<float*>(&dn.lo_x), reinterpret_cast<float*>(&dn.lo_y),
+                        reinterpret_cast<float*>(&dn.lo_z)};
+        float* hi[3] = {reinterpret_cast<float*>(&dn.hi_x), reinterpret_cast<float*>(&dn.hi_y),
+                        reinterpret_cast<float*>(&dn.hi_z)};
         for (int a = 0; a < 3; ++a) {
-            rows[a][slot] = b.lo[a];
-            rows[a][slot + 2] = b.hi[a];
+            lo[a][slot] = b.lo[a];
+            hi[a][slot] = b.hi[a];
         }
     }
-    void set_empty_child(BvhNode& dn, int slot) {
-        Aabb far;
-        far.lo = far.hi = glm::vec3(FLT_MAX);
-        set_child(dn, slot, far);
+    // The inverted box of an unused slot: no ray enters it (types.h).
+    static void set_empty_child(BvhNode& dn, int slot) {
+        Aabb none;
+        none.lo = glm::vec3(FLT_MAX);
+        none.hi = glm::vec3(-FLT_MAX);
+        set_child(dn, slot, none);
     }
 
-    int child_ref(int host_index, int parent) {
-        const Node& n = bvh.nodes[host_index];
-        if (n.leaf()) return leaf_ref(n.first, n.count);
-        return emit(host_index, parent);
+    // The (up to) four host nodes under interior host node `index`: its two children,
+    // then repeatedly the interior one of largest surface area replaced by its children.
+    std::vector<int> gather(int index) const {
+        const Node& n = bvh.nodes[index];
+        std::vector<int> kids = {n.left, n.right};
+        while (static_cast<int>(kids.size()) < WP_BVH_WIDTH) {
+            int best = -1;
+            float best_area = -1.0f;
+            for (int k = 0; k < static_cast<int>(kids.size()); ++k) {
+                const Node& c = bvh.nodes[kids[k]];
+                if (!c.leaf() && c.box.half_area() > best_area) {
+                    best_area = c.box.half_area();
+                    best = k;
+                }
+            }
+            if (best < 0) break;
+            const Node& c = bvh.nodes[kids[best]];
+            kids[best] = c.left;
+            kids.insert(kids.begin() + best + 1, c.right);
+        }
+        return kids;
     }
 
-    // Emits the interior host node as a device node; returns its index.
-    int emit(int host_index, int parent) {
-        int index = static_cast<int>(out.nodes.size());
+    // Emits interior host node `index` as a device node; returns its index.
+    int emit(int index, int parent, int slot, int level) {
+        max_level = std::max(max_level, level);
+        int di = static_cast<int>(out.nodes.size());
         out.nodes.push_back({});
-        out.links.push_back({-1, -1, parent, 0});
-        const Node& n = bvh.nodes[host_index];
-        const Node& l = bvh.nodes[n.left];
-        const Node& r = bvh.nodes[n.right];
+        out.links.push_back({parent, slot});
+        std::vector<int> kids = gather(index);
         BvhNode dn{};
-        set_child(dn, 0, l.box);
-        set_child(dn, 1, r.box);
-        out.nodes[index] = dn;
-        int c0 = child_ref(n.left, index);
-        int c1 = child_ref(n.right, index);
-        out.links[index].child0 = c0;
-        out.links[index].child1 = c1;
-        return index;
+        for (int s = 0; s < WP_BVH_WIDTH; ++s) {
+            if (s < static_cast<int>(kids.size())) set_child(dn, s, bvh.nodes[kids[s]].box);
+            else set_empty_child(dn, s);
+            (&dn.child0)[s] = kEmptyLeaf;
+        }
+        out.nodes[di] = dn;
+        for (int s = 0; s < static_cast<int>(kids.size()); ++s) {
+            const Node& c = bvh.nodes[kids[s]];
+            int ref = c.leaf() ? leaf_ref(c.first, c.count) : emit(kids[s], di, s, level + 1);
+            (&out.nodes[di].child0)[s] = ref;
+        }
+        return di;
     }
 };
 
@@ -87,25 +114,26 @@ FlatBvh flatten(const Bvh& bvh, std::span<const glm::vec3> positions, std::span<
     }
     Flattener f{bvh, out};
     if (bvh.nodes.empty() || bvh.nodes[0].leaf()) {
-        // Root leaf (or nothing): one device node with the leaf and the empty leaf.
+        // Root leaf (or nothing): one device node holding the leaf in slot 0.
         BvhNode dn{};
-        int ref = kEmptyLeaf;
-        if (!bvh.nodes.empty()) {
-            f.set_child(dn, 0, bvh.nodes[0].box);
-            ref = leaf_ref(bvh.nodes[0].first, bvh.nodes[0].count);
-        } else {
-            f.set_empty_child(dn, 0);
+        for (int s = 0; s < WP_BVH_WIDTH; ++s) {
+            Flattener::set_empty_child(dn, s);
+            (&dn.child0)[s] = kEmptyLeaf;
         }
-        f.set_empty_child(dn, 1);
+        if (!bvh.nodes.empty()) {
+            Flattener::set_child(dn, 0, bvh.nodes[0].box);
+            dn.child0 = leaf_ref(bvh.nodes[0].first, bvh.nodes[0].count);
+        }
         out.nodes.push_back(dn);
-        out.links.push_back({ref, kEmptyLeaf, -1, 0});
+        out.links.push_back({-1, 0});
         out.depth = 1;
         return out;
     }
-    out.nodes.reserve(bvh.nodes.size() / 2 + 1);
-    out.links.reserve(bvh.nodes.size() / 2 + 1);
-    f.emit(0, -1);
-    out.depth = bvh.depth;
+    out.nodes.reserve(bvh.nodes.size() / 3 + 1);
+    out.links.reserve(bvh.nodes.size() / 3 + 1);
+    f.emit(0, -1, 0, 1);
+    out.depth = f.max_level;
+    if (out.depth > WP_BVH_MAX_DEPTH) fail("BVH of {} levels exceeds the traversal's {}", out.depth, WP_BVH_MAX_DEPTH);
     return out;
 }
 

@@ -1,11 +1,27 @@
 // flatten.h — the host BVH turned into the device layout of kernels/shared/types.h.
 //
-// Interior nodes are numbered in depth-first order from the root (0). Each device node
-// holds the boxes of its two children (BvhNode) and their references, plus the parent
-// link for the stackless traversal (BvhLinks). Triangles are copied in leaf order
-// (Triangle, .w lanes 0) with prim_ids mapping each back to its original index.
-// A BVH whose root is a leaf (or that is empty) gets a root node whose second child is the
-// empty leaf, so the kernels never special-case it.
+// The binary SAH tree is collapsed into a WP_BVH_WIDTH-wide BVH (8; 4 is the other
+// setting of the switch in types.h): each device node takes the two children of a binary
+// node, then repeatedly replaces the interior child of largest surface area by its two
+// children until it has WP_BVH_WIDTH (or only leaves are left). Children keep the binary
+// tree's left-to-right order. Interior nodes are numbered in depth-first order from the
+// root (0). Layout, field by field (kernels/shared/types.h has the authoritative text):
+//   nodes[i] (BvhNode, 256 bytes for width 8, 128 for width 4):
+//     lo_x, hi_x, lo_y, hi_y, lo_z, hi_z: six WpLanes rows (float8 / float4); lane s is a
+//       bound of child slot s's box (world units). Used slots come first; an unused slot
+//       has lo = +FLT_MAX, hi = -FLT_MAX (no ray enters it).
+//     child0..child{W-1}: one integer reference per slot: >= 0 an interior node index,
+//       < 0 a leaf ~((first << 5) | count) over triangles[first, first + count);
+//       -1 in unused slots.
+//     pad0..pad{W-1}: 0 (the node fills whole cache lines).
+//   links[i] (BvhLinks, 8 bytes): parent (interior node index, -1 at the root) and slot
+//     (this node's slot in its parent, 0 at the root), for the stackless climb.
+//   triangles (Triangle, 48 bytes): vertices in leaf order, .w lanes 0.
+//   prim_ids: leaf order -> original triangle index.
+//   depth: levels of the wide tree (<= WP_BVH_MAX_DEPTH = 64, the bitstack's width; the
+//     binary builder caps its depth there and collapsing only shortens paths).
+// A BVH whose root is a leaf (or that is empty) gets a root node whose slot 0 holds that
+// leaf (the empty scene: nothing), so the kernels never special-case it.
 #pragma once
 
 #include <cstdint>

@@ -94,17 +94,8 @@ Wavefront::Wavefront(ocl::Device& dev, const Scene& scene, const RenderSettings&
     accumulate_prog_ = ocl::Program::build(dev, "accumulate.cl");
     stats_.program_ms = prog_timer.ms();
     generate_ = generate_prog_.kernel("generate_camera");
-    if (settings.traversal == Traversal::Stack) {
-        // The stack traversal needs a wavefront entry (queue length read on the device).
-        try {
-            intersect_ = intersect_prog_.kernel("intersect_closest_stack");
-        } catch (const Error&) {
-            fail("traversal 'stack': kernels/intersect.cl has no wavefront entry point "
-                 "'intersect_closest_stack' (only the batch entry intersect_closest_stack_batch)");
-        }
-    } else {
-        intersect_ = intersect_prog_.kernel("intersect_closest");
-    }
+    intersect_ = intersect_prog_.kernel(settings.traversal == Traversal::Stack ? "intersect_closest_stack"
+                                                                                : "intersect_closest");
     reset_ = shade_prog_.kernel("queue_reset");
     shade_ = shade_prog_.kernel("shade_surface");
     accumulate_ = accumulate_prog_.kernel(settings.variance ? "accumulate_film_variance"
