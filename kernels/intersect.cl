@@ -10,6 +10,8 @@
 //                                  and never reads counts back (pbrt-v4's ForAllQueued)
 // Variants: closest (stackless, ordered: the default), closest_stack (the small-stack
 // oracle and speed reference), any (stackless, first hit; shadow rays).
+// -D WP_PLAIN_TRIANGLES builds the benchmark-only baseline of `wavepath bench hard`
+// (Möller-Trumbore triangles, plain box tests; not watertight): see triangle.h.
 #include "shared/bvh_traverse.h"
 
 #if defined(WP_STATS)

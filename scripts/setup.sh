@@ -7,7 +7,7 @@ packages=(
   build-essential cmake ninja-build pkg-config
   pocl-opencl-icd ocl-icd-opencl-dev opencl-headers opencl-clhpp-headers clinfo
   libglm-dev libopenimageio-dev catch2 libtinyobjloader-dev
-  nlohmann-json3-dev libcli11-dev libfmt-dev libembree-dev
+  nlohmann-json3-dev libcli11-dev libfmt-dev libembree-dev oclgrind
 )
 
 missing=()

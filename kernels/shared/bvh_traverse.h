@@ -38,12 +38,21 @@
 
 WP_NAMESPACE_BEGIN
 
+#if defined(WP_PLAIN_TRIANGLES)
+// Benchmark-only baseline (see triangle.h): plain, non-conservative box tests.
+#define WP_BOX_FAR_SCALE 1.0f
+#else
 #define WP_BOX_FAR_SCALE 1.00000036f  // 1 + 2 * gamma(3), rounded up (Ize 2013)
+#endif
 // Boxes are culled against the closest hit so far only when they start clearly behind it:
 // the triangle test's own rounding (a few ulps, more at grazing angles) must not decide
 // which of two nearly coincident hits (overlapping coplanar triangles) is visited, or the
 // winner would depend on the traversal order. 1 + 2^-14.
+#if defined(WP_PLAIN_TRIANGLES)
+#define WP_HIT_CULL_SCALE 1.0f
+#else
 #define WP_HIT_CULL_SCALE 1.00006104f
+#endif
 
 // Width-generic vector helpers over WpLanes (types.h).
 #if WP_BVH_WIDTH == 8

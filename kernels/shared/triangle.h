@@ -19,6 +19,48 @@
 
 WP_NAMESPACE_BEGIN
 
+#if defined(WP_PLAIN_TRIANGLES)
+// Benchmark-only baseline (`wavepath bench hard`, the cost of robustness): the plain
+// Möller-Trumbore test (Möller & Trumbore, "Fast, Minimum Storage Ray/Triangle
+// Intersection", JGT 2(1), 1997). Not watertight: the edge tests of two triangles that
+// share an edge are computed from different values, so rays can pass between them.
+typedef struct TriRay {
+    float4 org;  // ray origin (w = 0)
+    float4 dir;  // ray direction (w = 0)
+    float tmin;
+} TriRay;
+
+WP_FN TriRay wp_tri_ray(Ray ray) {
+    TriRay r;
+    r.org = make_float4(ray.org.x, ray.org.y, ray.org.z, 0.0f);
+    r.dir = make_float4(ray.dir.x, ray.dir.y, ray.dir.z, 0.0f);
+    r.tmin = ray.org.w;
+    return r;
+}
+
+WP_FN int wp_intersect_triangle(const TriRay* r, float4 v0, float4 v1, float4 v2, float* t_out,
+                                float* u_out, float* v_out) {
+    float3 e1 = wp_xyz(v1 - v0), e2 = wp_xyz(v2 - v0);
+    float3 d = wp_xyz(r->dir);
+    float3 p = cross(d, e2);
+    float det = dot(e1, p);
+    if (det == 0.0f) return 0;
+    float inv = 1.0f / det;
+    float3 s = wp_xyz(r->org - v0);
+    float u = dot(s, p) * inv;
+    if (u < 0.0f || u > 1.0f) return 0;
+    float3 q = cross(s, e1);
+    float v = dot(d, q) * inv;
+    if (v < 0.0f || u + v > 1.0f) return 0;
+    float t = dot(e2, q) * inv;
+    if (!(t > r->tmin)) return 0;
+    *t_out = t;
+    *u_out = u;
+    *v_out = v;
+    return 1;
+}
+#else
+
 // Per-ray constants of the watertight test.
 typedef struct TriRay {
     float4 org;  // ray origin (w = 0)
@@ -82,6 +124,7 @@ WP_FN int wp_intersect_triangle(const TriRay* r, float4 v0, float4 v1, float4 v2
     *v_out = W * rcp;
     return 1;
 }
+#endif  // WP_PLAIN_TRIANGLES
 
 WP_NAMESPACE_END
 

@@ -5,6 +5,11 @@
 // counts box and triangle tests per ray in a separate statistics build, and, when built
 // with Embree, traces the same rays with rtcIntersect1 / rtcOccluded1 on 1 and 2 threads
 // and prints the ratios. build: BVH build times of the 16k-triangle box and a 250k mesh.
+// hard: the large versions of the hard cases of issue 5 (bvh/hard_cases.h): misses of rays
+// aimed at shared edges and vertices (default 10^9), self-intersections of offset
+// secondary rays at four scales (800x600 primary rays each), and the cost of robustness:
+// the watertight + conservative kernel against a -D WP_PLAIN_TRIANGLES build
+// (Möller-Trumbore, plain box tests) on the Cornell box's primary and diffuse ray sets.
 #include <algorithm>
 #include <cstdio>
 #include <fstream>
@@ -19,6 +24,7 @@
 #include "bvh/build.h"
 #include "bvh/device_bvh.h"
 #include "bvh/flatten.h"
+#include "bvh/hard_cases.h"
 #include "scene/builtin.h"
 #include "scene/obj_loader.h"
 #include "scene/procedural.h"
@@ -261,6 +267,118 @@ int run_build(int repeats, const std::string& json_path) {
     return 0;
 }
 
+
+struct HardOptions {
+    double rays = 1e9;
+    int width = 800, height = 600;
+    int runs = 7;
+    std::string device;
+    std::string json_path;
+};
+
+int run_hard(const HardOptions& o) {
+    auto dev = ocl::Device::open(o.device);
+    fmt::print("device: {}: {}\n", dev.info.platform, dev.info.name);
+    bvh::BatchTracer tracer(dev);
+    bvh::BatchTracer plain(dev, false, "-D WP_PLAIN_TRIANGLES");
+    bvh::HardProbe probe(dev, tracer);
+    bvh::HardProbe plain_probe(dev, plain);
+    json report;
+    report["device"] = {{"platform", dev.info.platform}, {"name", dev.info.name}};
+
+    // 1. Watertightness.
+    auto cases = bvh::watertight_cases();
+    std::uint64_t per_case = static_cast<std::uint64_t>(o.rays / cases.size());
+    fmt::print("\n1. rays aimed exactly at shared edges and vertices (from inside and outside), stackless kernel\n");
+    fmt::print("{:<28} {:>9} {:>9} {:>14} {:>8} {:>8} {:>9} {:>9}   {}\n", "mesh", "triangles", "targets", "rays",
+               "misses", "bad t", "seconds", "Mrays/s", "plain Moller-Trumbore misses (rays)");
+    std::uint64_t total = 0, total_miss = 0;
+    report["watertight"] = json::array();
+    for (const auto& c : cases) {
+        auto r = probe.watertight(c, per_case, bvh::TraceVariant::Stackless, 1);
+        std::uint64_t pn = std::min<std::uint64_t>(per_case, 10000000);
+        auto pr = plain_probe.watertight(c, pn, bvh::TraceVariant::Stackless, 1);
+        total += r.rays;
+        total_miss += r.misses;
+        fmt::print("{:<28} {:>9} {:>9} {:>14} {:>8} {:>8} {:>9.1f} {:>9.2f}   {} ({})\n", c.name,
+                   c.mesh.triangles.size(), c.segments.size() / 2, r.rays, r.misses, r.nonfinite + r.nonpositive,
+                   r.seconds, r.rays / r.seconds * 1e-6, pr.misses, pr.rays);
+        report["watertight"].push_back({{"mesh", c.name}, {"triangles", c.mesh.triangles.size()},
+                                        {"rays", r.rays}, {"misses", r.misses}, {"nonfinite_t", r.nonfinite},
+                                        {"nonpositive_t", r.nonpositive}, {"seconds", r.seconds},
+                                        {"plain_rays", pr.rays}, {"plain_misses", pr.misses}});
+    }
+    fmt::print("{:<28} {:>34} {:>8}\n", "total", total, total_miss);
+
+    // 3. Self-intersection at four scales.
+    Scene box = make_cornell_box();
+    Mesh mesh{box.positions, box.triangles};
+    auto primary = bvh::camera_rays(box.camera.position, box.camera.target, box.camera.up, box.camera.vfov_deg,
+                                    o.width, o.height);
+    fmt::print("\n3. self-intersections: Cornell box, {}x{} primary rays, cosine + uniform + mirror bounces from "
+               "offset origins\n", o.width, o.height);
+    fmt::print("{:<26} {:>12} {:>14} {:>12} {:>8} {:>12} {:>12}\n", "transform", "primary hits", "secondary rays",
+               "self-hits", "bad t", "max offset", "/ scene size");
+    report["self_intersection"] = json::array();
+    struct Sc {
+        const char* name;
+        float scale;
+        glm::vec3 shift;
+    };
+    for (Sc sc : {Sc{"identity", 1.0f, {0, 0, 0}}, Sc{"scale 1e-4", 1e-4f, {0, 0, 0}}, Sc{"scale 1e5", 1e5f, {0, 0, 0}},
+                  Sc{"translate (1e5, 1e5, 1e5)", 1.0f, {1e5f, 1e5f, 1e5f}}}) {
+        auto r = bvh::self_intersections(dev, tracer, mesh, primary, sc.scale, sc.shift);
+        fmt::print("{:<26} {:>12} {:>14} {:>12} {:>8} {:>12.3g} {:>12.3g}\n", sc.name, r.primary_hits, r.rays,
+                   r.same_triangle, r.nonfinite, r.max_offset, r.max_offset / r.extent);
+        report["self_intersection"].push_back({{"transform", sc.name}, {"primary_hits", r.primary_hits},
+                                               {"rays", r.rays}, {"self_hits", r.same_triangle},
+                                               {"nonfinite_t", r.nonfinite}, {"max_offset", r.max_offset},
+                                               {"scene_extent", r.extent}});
+    }
+
+    // 9. Cost of robustness.
+    auto built = build_bvh(box, 1);
+    auto gpu = bvh::DeviceBvh::upload(dev, built.flat);
+    auto prim_rays = primary_rays(box.camera);
+    auto prim_hits = tracer.trace(gpu, prim_rays, bvh::TraceVariant::Stackless);
+    RaySets sets = make_ray_sets(box, prim_rays, prim_hits);
+    fmt::print("\n9. cost of robustness: built-in Cornell box, stackless closest hit, median of {} runs\n", o.runs);
+    fmt::print("{:<8} {:>8} {:>18} {:>18} {:>10}\n", "rays", "count", "watertight Mrays/s", "plain MT Mrays/s",
+               "slowdown");
+    report["robustness_cost"] = json::array();
+    for (auto [name, rays] : {std::pair<const char*, const std::vector<Ray>*>{"primary", &sets.primary},
+                              {"diffuse", &sets.diffuse}}) {
+        int n = static_cast<int>(rays->size());
+        ::cl::Buffer rb(dev.context, CL_MEM_READ_ONLY, rays->size() * sizeof(Ray));
+        ::cl::Buffer hb(dev.context, CL_MEM_READ_WRITE, rays->size() * sizeof(Hit));
+        dev.queue.enqueueWriteBuffer(rb, CL_TRUE, 0, rays->size() * sizeof(Ray), rays->data());
+        auto time = [&](bvh::BatchTracer& t) {
+            t.enqueue(gpu, rb, n, hb, bvh::TraceVariant::Stackless);
+            dev.queue.finish();
+            std::vector<double> ms;
+            for (int r = 0; r < o.runs; ++r) {
+                Timer tm;
+                t.enqueue(gpu, rb, n, hb, bvh::TraceVariant::Stackless);
+                dev.queue.finish();
+                ms.push_back(tm.ms());
+            }
+            return n / (median(ms) * 1e3);
+        };
+        // Interleave the two builds so drift of the machine affects both alike.
+        std::vector<double> a, b;
+        for (int k = 0; k < 3; ++k) {
+            a.push_back(time(tracer));
+            b.push_back(time(plain));
+        }
+        double robust = median(a), base = median(b);
+        double slow = (base / robust - 1.0) * 100.0;
+        fmt::print("{:<8} {:>8} {:>18.2f} {:>18.2f} {:>9.1f}%\n", name, n, robust, base, slow);
+        report["robustness_cost"].push_back({{"rays", name}, {"count", n}, {"watertight_mrays", robust},
+                                             {"plain_mrays", base}, {"slowdown_percent", slow}});
+    }
+    if (!o.json_path.empty()) write_text_atomically(o.json_path, report.dump(2) + "\n");
+    return total_miss == 0 ? 0 : 1;
+}
 }  // namespace
 
 Subcommand add_bench(CLI::App& app) {
@@ -288,7 +406,25 @@ Subcommand add_bench(CLI::App& app) {
         ->check(CLI::Range(1, 1000))
         ->capture_default_str();
     bd->add_option("--json", *build_json, "Also write the figures as JSON to this file");
-    s.run = [o, in, bd, build_runs, build_json]() -> int {
+    auto ho = std::make_shared<HardOptions>();
+    auto* hd = s.app->add_subcommand("hard", "Hard cases at full size: watertight misses (10^9 rays), "
+                                             "self-intersections at four scales, the cost of robustness");
+    hd->add_option("--rays", ho->rays, "Rays aimed at shared edges and vertices, over the four meshes")
+        ->check(CLI::Range(1.0, 1e12))
+        ->capture_default_str();
+    hd->add_option("--size", ho->width, "Width of the self-intersection ray set (height = 3/4 of it)")
+        ->check(CLI::Range(8, 4096))
+        ->capture_default_str();
+    hd->add_option("--runs", ho->runs, "Timed runs per speed measurement (the median is reported)")
+        ->check(CLI::Range(1, 1000))
+        ->capture_default_str();
+    hd->add_option("--device", ho->device, "OpenCL device: index or name substring (see `wavepath devices`)");
+    hd->add_option("--json", ho->json_path, "Also write the figures as JSON to this file");
+    s.run = [o, in, bd, build_runs, build_json, ho, hd]() -> int {
+        if (hd->parsed()) {
+            ho->height = ho->width * 3 / 4;
+            return run_hard(*ho);
+        }
         if (in->parsed()) return run_intersect(*o);
         if (bd->parsed()) return run_build(*build_runs, *build_json);
         return 2;

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cfloat>
+#include <cmath>
 
 #include "util/error.h"
 
@@ -16,14 +17,30 @@ struct Flattener {
     FlatBvh& out;
     int max_level = 0;
 
-    static void set_child(BvhNode& dn, int slot, const Aabb& b) {
+    // Child boxes are widened on every side by one ulp and by at least 2^-64 (never to a
+    // denormal: NOTES-pocl.md trap 1), so every point of a triangle lies strictly inside
+    // its boxes, at least 2^-65 from each face. Why: the box test reads a zero direction
+    // component as 1 / FLT_MIN = 2^126 (bvh_traverse.h), the triangle test as exactly
+    // zero. A ray with d.z = 0 whose origin lay exactly on a face plane z = hi of a tight
+    // box got (hi - o.z) * 2^126 = 0 as its exit distance and skipped the box although it
+    // runs inside the slab (tests/test_hard.cpp: zero directions and origins on box
+    // faces). With the margin its exit distance is >= 2^-65 * 2^126 = 2^61 instead.
+    static float widen_down(float x) {
+        float y = std::min(std::nextafter(x, -FLT_MAX), static_cast<float>(static_cast<double>(x) - 0x1p-64));
+        return (y > -FLT_MIN && y < FLT_MIN) ? -FLT_MIN : y;
+    }
+    static float widen_up(float x) {
+        float y = std::max(std::nextafter(x, FLT_MAX), static_cast<float>(static_cast<double>(x) + 0x1p-64));
+        return (y > -FLT_MIN && y < FLT_MIN) ? FLT_MIN : y;
+    }
+    static void set_child(BvhNode& dn, int slot, const Aabb& b, bool widen = true) {
         float* lo[3] = {reinterpret_cast<float*>(&dn.lo_x), reinterpret_cast<float*>(&dn.lo_y),
                         reinterpret_cast<float*>(&dn.lo_z)};
         float* hi[3] = {reinterpret_cast<float*>(&dn.hi_x), reinterpret_cast<float*>(&dn.hi_y),
                         reinterpret_cast<float*>(&dn.hi_z)};
         for (int a = 0; a < 3; ++a) {
-            lo[a][slot] = b.lo[a];
-            hi[a][slot] = b.hi[a];
+            lo[a][slot] = widen ? widen_down(b.lo[a]) : b.lo[a];
+            hi[a][slot] = widen ? widen_up(b.hi[a]) : b.hi[a];
         }
     }
     // The inverted box of an unused slot: no ray enters it (types.h).
@@ -31,7 +48,7 @@ struct Flattener {
         Aabb none;
         none.lo = glm::vec3(FLT_MAX);
         none.hi = glm::vec3(-FLT_MAX);
-        set_child(dn, slot, none);
+        set_child(dn, slot, none, false);
     }
 
     // The (up to) four host nodes under interior host node `index`: its two children,

@@ -8,7 +8,9 @@
 // root (0). Layout, field by field (kernels/shared/types.h has the authoritative text):
 //   nodes[i] (BvhNode, 256 bytes for width 8, 128 for width 4):
 //     lo_x, hi_x, lo_y, hi_y, lo_z, hi_z: six WpLanes rows (float8 / float4); lane s is a
-//       bound of child slot s's box (world units). Used slots come first; an unused slot
+//       bound of child slot s's box (world units), widened outward by one ulp and at least
+//       2^-64 (flatten.cpp says why: zero direction components with origins on a face).
+//       Used slots come first; an unused slot
 //       has lo = +FLT_MAX, hi = -FLT_MAX (no ray enters it).
 //     child0..child{W-1}: one integer reference per slot: >= 0 an interior node index,
 //       < 0 a leaf ~((first << 5) | count) over triangles[first, first + count);
