@@ -435,19 +435,20 @@ TEST_CASE("hard: the Cornell box scaled by 1e5 renders the same image (z-test)",
     check_transformed_render(1e5f, {0, 0, 0}, 2);
 }
 
-// KNOWN FAILURES (tagged !shouldfail: ctest passes while they fail, and reports them as
-// soon as they pass, so the tag is removed with the fix). The ray origin offset of
+// KNOWN ISSUE (tagged !mayfail: they run and print their result in every CI log, but a
+// failure does not fail the run; whether they fail depends on the estimator's variance,
+// so !shouldfail would be as wrong as no tag). Remove the tag with the fix. The ray origin offset of
 // kernels/shared/offset.h uses Wächter & Binder's constants, which assume a scene of size
 // about 1: below |coordinate| 1/32 it moves origins by 1/65536 absolute (7.5% of the
 // 2e-4-wide box scaled by 1e-4), above by 256 ulps (about 2 world units at 1e5, the whole
 // width of the translated box). Measured: scale 1e-4: 754 of 768 pixels pass (max |z|
 // 12.9); translated by 1e5: 338 of 768 (max |z| 67). The fix belongs to the shade/offset
 // owner (e.g. an offset from the hit point's own error bound, as pbrt-v4 does).
-TEST_CASE("hard: the Cornell box scaled by 1e-4 renders the same image (z-test)", "[hard][render][!shouldfail]") {
+TEST_CASE("hard: the Cornell box scaled by 1e-4 renders the same image (z-test)", "[hard][render][!mayfail]") {
     check_transformed_render(1e-4f, {0, 0, 0}, 3);
 }
 
 TEST_CASE("hard: the Cornell box translated by 1e5 renders the same image (z-test)",
-          "[hard][render][!shouldfail]") {
+          "[hard][render][!mayfail]") {
     check_transformed_render(1.0f, {1e5f, 1e5f, 1e5f}, 4);
 }
