@@ -10,24 +10,16 @@
 
 #include "cl/device.h"
 #include "shared/types.h"
+#include "util/splitmix.h"
 
 namespace wp::test {
 
 // The device the kernel tests run on: $WP_TEST_DEVICE (a selector), else the default.
 ocl::Device& device();
 
-// splitmix64: a small, fully specified generator (same numbers on every platform).
-struct Rng {
-    std::uint64_t state;
-    explicit Rng(std::uint64_t seed) : state(seed) {}
-    std::uint64_t next() {
-        std::uint64_t z = (state += 0x9e3779b97f4a7c15ull);
-        z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ull;
-        z = (z ^ (z >> 27)) * 0x94d049bb133111ebull;
-        return z ^ (z >> 31);
-    }
-    float uniform() { return static_cast<float>(next() >> 40) * 0x1p-24f; }  // [0, 1)
-    float uniform(float lo, float hi) { return lo + (hi - lo) * uniform(); }
+// Test data generator: splitmix64 (util/splitmix.h) plus unit vectors.
+struct Rng : SplitMix64 {
+    explicit Rng(std::uint64_t seed) : SplitMix64(seed) {}
     glm::vec3 unit_vector();
 };
 

@@ -3,21 +3,11 @@
 #include <cmath>
 
 #include "shared/offset.h"
+#include "util/splitmix.h"
 
 namespace wp::app {
 
 namespace {
-
-// splitmix64 → uniform floats in [0, 1).
-struct Rng {
-    std::uint64_t s;
-    float next() {
-        std::uint64_t z = (s += 0x9e3779b97f4a7c15ull);
-        z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ull;
-        z = (z ^ (z >> 27)) * 0x94d049bb133111ebull;
-        return static_cast<float>((z ^ (z >> 31)) >> 40) * 0x1p-24f;
-    }
-};
 
 Ray ray(glm::vec3 o, glm::vec3 d, float tmax = FLT_MAX) {
     return Ray{{o.x, o.y, o.z, 0.0f}, {d.x, d.y, d.z, tmax}};
@@ -64,7 +54,7 @@ RaySets make_ray_sets(const Scene& scene, const std::vector<Ray>& primary, const
         lights.push_back(i);
         cdf.push_back(total);
     }
-    Rng rng{seed};
+    SplitMix64 rng(seed);
     for (std::size_t i = 0; i < primary.size(); ++i) {
         const Hit& h = hits[i];
         if (h.prim < 0) continue;
@@ -77,7 +67,7 @@ RaySets make_ray_sets(const Scene& scene, const std::vector<Ray>& primary, const
         if (glm::dot(n, d) > 0.0f) n = -n;  // the side the ray came from
         glm::vec3 origin = offset_origin(p, n);
         // Cosine-weighted direction about n (Malley's method).
-        float u1 = rng.next(), u2 = rng.next();
+        float u1 = rng.uniform(), u2 = rng.uniform();
         float rad = std::sqrt(u1), phi = 6.2831853f * u2;
         glm::vec3 tx = glm::normalize(std::fabs(n.x) > 0.5f ? glm::cross(n, glm::vec3(0, 1, 0))
                                                             : glm::cross(n, glm::vec3(1, 0, 0)));
@@ -85,10 +75,10 @@ RaySets make_ray_sets(const Scene& scene, const std::vector<Ray>& primary, const
         glm::vec3 dir = rad * std::cos(phi) * tx + rad * std::sin(phi) * ty + std::sqrt(std::max(0.0f, 1.0f - u1)) * n;
         out.diffuse.push_back(ray(origin, dir));
         if (!lights.empty()) {
-            double x = rng.next() * total;
+            double x = rng.uniform() * total;
             std::size_t k = std::lower_bound(cdf.begin(), cdf.end(), x) - cdf.begin();
             const auto& lt = scene.triangles[lights[std::min(k, lights.size() - 1)]];
-            float s1 = rng.next(), s2 = rng.next();
+            float s1 = rng.uniform(), s2 = rng.uniform();
             float su = std::sqrt(s1);
             glm::vec3 q = (1.0f - su) * scene.positions[lt.x] + su * (1.0f - s2) * scene.positions[lt.y] +
                           su * s2 * scene.positions[lt.z];

@@ -9,21 +9,12 @@
 #include "bvh/flatten.h"
 #include "cl/profiler.h"
 #include "shared/offset.h"
+#include "util/splitmix.h"
 #include "util/timer.h"
 
 namespace wp::bvh {
 
 namespace {
-
-struct Rng {
-    std::uint64_t s;
-    float next() {
-        std::uint64_t z = (s += 0x9e3779b97f4a7c15ull);
-        z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ull;
-        z = (z ^ (z >> 27)) * 0x94d049bb133111ebull;
-        return static_cast<float>((z ^ (z >> 31)) >> 40) * 0x1p-24f;
-    }
-};
 
 // A height field of n x n cells of size 2 whose vertices lie on integer coordinates far
 // from the origin (x, y in 1024 + 2i, -2048 + 2j; z in {512, 513}), diagonals alternating.
@@ -248,7 +239,7 @@ SelfHitCount self_intersections(const ocl::Device& dev, BatchTracer& tracer, con
     std::vector<Ray> second;
     std::vector<int> source;
     second.reserve(hits.size() * 3);
-    Rng rng{seed};
+    SplitMix64 rng(seed);
     for (std::size_t i = 0; i < hits.size(); ++i) {
         const Hit& h = hits[i];
         if (h.prim < 0) continue;
@@ -267,10 +258,10 @@ SelfHitCount self_intersections(const ocl::Device& dev, BatchTracer& tracer, con
         glm::vec3 a = std::fabs(n.x) > 0.5f ? glm::vec3(0, 1, 0) : glm::vec3(1, 0, 0);
         glm::vec3 tx = glm::normalize(glm::cross(a, n)), ty = glm::cross(n, tx);
         // Cosine-distributed (Malley) and uniform hemisphere directions.
-        float u1 = rng.next(), u2 = rng.next();
+        float u1 = rng.uniform(), u2 = rng.uniform();
         float r = std::sqrt(u1), phi = 6.2831853f * u2;
         glm::vec3 dc = r * std::cos(phi) * tx + r * std::sin(phi) * ty + std::sqrt(std::max(0.0f, 1.0f - u1)) * n;
-        float z = rng.next(), phi2 = 6.2831853f * rng.next();
+        float z = rng.uniform(), phi2 = 6.2831853f * rng.uniform();
         float s = std::sqrt(std::max(0.0f, 1.0f - z * z));
         glm::vec3 du = s * std::cos(phi2) * tx + s * std::sin(phi2) * ty + z * n;
         glm::vec3 dm = d - 2.0f * glm::dot(d, n) * n;

@@ -7,25 +7,13 @@
 #include <utility>
 
 #include "util/error.h"
+#include "util/splitmix.h"
 
 namespace wp {
 
 namespace {
 
 constexpr float kPi = std::numbers::pi_v<float>;
-
-// splitmix64 (Steele, Lea, Flood 2014): tiny, fast and the same on every platform.
-struct SplitMix64 {
-    std::uint64_t state;
-    std::uint64_t next() {
-        std::uint64_t z = (state += 0x9E3779B97F4A7C15ull);
-        z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ull;
-        z = (z ^ (z >> 27)) * 0x94D049BB133111EBull;
-        return z ^ (z >> 31);
-    }
-    // Uniform in [0, 1): the top 24 bits, exactly representable as a float.
-    float uniform() { return static_cast<float>(next() >> 40) * 0x1.0p-24f; }
-};
 
 // Appends the two triangles of the grid cell whose corners are a (s, t), b (s+1, t),
 // c (s+1, t+1), d (s, t+1): counter-clockwise around cross(u, v).
@@ -177,7 +165,7 @@ Mesh make_random_soup(std::size_t n, std::uint64_t seed, glm::vec3 lo, glm::vec3
                       float max_edge) {
     if (!glm::all(glm::lessThanEqual(lo, hi))) fail("make_random_soup: lo must not exceed hi");
     if (!(max_edge > 0.0f)) fail("make_random_soup: max_edge must be positive");
-    SplitMix64 rng{seed};
+    SplitMix64 rng(seed);
     auto in_box = [&](glm::vec3 a, glm::vec3 b) {
         return glm::vec3(a.x + (b.x - a.x) * rng.uniform(), a.y + (b.y - a.y) * rng.uniform(),
                          a.z + (b.z - a.z) * rng.uniform());
