@@ -42,7 +42,7 @@ __kernel void generate_camera(CameraData camera, uint seed, uint sample,
     s.pixel = p;
     s.bounce = 0;
     s.flags = 0;
-    s.pad = 0;
+    s.bsdf_pdf = 0.0f;
     paths[p] = s;
     radiance[p] = make_float4(0.0f, 0.0f, 0.0f, 0.0f);
 }

@@ -1,45 +1,76 @@
-// shade.cl — the shade stage: emission, scattering and compaction of surviving paths.
+// shade.cl — the shade stage: emission, scattering, next-event estimation, Russian roulette
+// and compaction of surviving paths; plus the shadow-resolve and queue upkeep kernels.
 //
+// shade_surface
 // reads   rays_in[i], paths_in[i], hits[i] for i < count_in[0] (the queue of this bounce);
 //         the scene in original triangle order: tris (vertices), material_ids, materials;
-//         background radiance, seed, sample, bounce (this bounce's index), max_depth
-// writes  radiance[pixel] += throughput * (emission of a front face hit, or background on
-//         a miss); counters[WP_COUNTER_SHADE_NONFINITE] on NaN/Inf
-// pushes  every path that scatters (bounce < max_depth, not absorbed, throughput > 0) into
-//         rays_out / paths_out at a slot reserved from count_out, which the host zeroed first
-//         (queue.reset); one global atomic per work-group (see shade_surface). Dead
-//         paths are not pushed, so they cost nothing later.
+//         background radiance, seed, sample, bounce (this bounce's index), max_depth;
+//         with WP_HAVE_NEE the light table (lights.h): light_cdf, light_prims,
+//         light_pdf_area, light_count
+// writes  radiance[pixel] += throughput * MIS weight * (emission of a front face hit), or
+//         throughput * background on a miss; counters[WP_COUNTER_SHADE_NONFINITE] on NaN/Inf;
+//         with WP_HAVE_NEE shadow_contrib[pixel] = the unoccluded contribution of this
+//         bounce's light sample
+// pushes  every path that scatters (bounce < max_depth, not absorbed, throughput > 0, and
+//         surviving Russian roulette) into rays_out / paths_out at a slot reserved from
+//         count_out; with WP_HAVE_NEE a shadow ray per light sample into shadow_rays /
+//         shadow_pixels at a slot reserved from shadow_count. Both queues were zeroed by
+//         queue.reset; one global atomic per work-group and queue (see shade_surface).
 // Each path owns its pixel in this frame (one sample per pixel per frame), so the radiance
-// update needs no atomics and does not depend on the queue order.
+// and shadow_contrib updates need no atomics and do not depend on the queue order.
 //
-// Compile options (KernelConfig): WP_HAVE_DIFFUSE / _MIRROR / _GLOSSY select the material
-// code (bsdf.h), WP_HAVE_EMISSION the emission term, WP_DIFFUSE_SAMPLING the strategy.
+// Compile options (KernelConfig): WP_HAVE_DIFFUSE / _MIRROR / _GLOSSY / _GLASS select the material
+// code and WP_SAMPLING / WP_GLOSSY_MODEL the strategies (bsdf.h); WP_HAVE_EMISSION the
+// emission term; WP_HAVE_NEE (scene has emitters and WP_SAMPLING is NEE or MIS) the light
+// sampling; WP_RR_DEPTH the first bounce at which Russian roulette may end a path (< 0: off).
 // Emission is one-sided: only the front face (counter-clockwise winding normal) emits.
 #include "shared/bsdf.h"
 #include "shared/film.h"
+#include "shared/lights.h"
 #include "shared/offset.h"
 #include "shared/rng.h"
 
 #ifndef WP_HAVE_EMISSION
 #define WP_HAVE_EMISSION 1
 #endif
+#ifndef WP_HAVE_NEE
+#define WP_HAVE_NEE 0
+#endif
+#ifndef WP_RR_DEPTH
+#define WP_RR_DEPTH (-1)
+#endif
 
-// Shades one path. Returns 1 and fills *next_ray / *next_path when the path continues.
+// The light arrays of shade_surface, bundled for the helpers.
+typedef struct LightTable {
+    __global const float* cdf;
+    __global const int* prims;
+    __global const float* pdf_area;
+    int count;
+} LightTable;
+
+// Adds v to radiance[pixel] when finite; counts it otherwise.
+static void wp_add_radiance(__global float4* radiance, int pixel, float3 v, __global int* counters) {
+    if (wp_all_finite3(v))
+        radiance[pixel] += wp_float4(v, 0.0f);
+    else
+        atomic_inc(&counters[WP_COUNTER_SHADE_NONFINITE]);
+}
+
+// Shades one path. Returns 1 and fills *next_ray / *next_path when the path continues, and
+// sets *shadow = 1 with *shadow_ray when it pushes a shadow ray.
 static int wp_shade_path(Ray ray, PathState path, Hit hit, __global const Triangle* tris,
                          __global const int* material_ids, __global const MaterialData* materials,
                          float4 background, uint seed, uint sample, int bounce, int max_depth,
-                         __global float4* radiance, __global int* counters, Ray* next_ray,
-                         PathState* next_path) {
+                         LightTable lights, __global float4* radiance,
+                         __global float4* shadow_contrib, __global int* counters,
+                         Ray* next_ray, PathState* next_path, int* shadow, Ray* shadow_ray) {
     float3 beta = wp_xyz(path.throughput);
     float3 d = wp_xyz(ray.dir);
+    *shadow = 0;
 
     // Escaped: the constant background.
     if (hit.prim < 0) {
-        float3 le = beta * wp_xyz(background);
-        if (wp_all_finite3(le))
-            radiance[path.pixel] += wp_float4(le, 0.0f);
-        else
-            atomic_inc(&counters[WP_COUNTER_SHADE_NONFINITE]);
+        wp_add_radiance(radiance, path.pixel, beta * wp_xyz(background), counters);
         return 0;
     }
 
@@ -52,22 +83,82 @@ static int wp_shade_path(Ray ray, PathState path, Hit hit, __global const Triang
     int front = dot(d, n) < 0.0f;
 
 #if WP_HAVE_EMISSION
-    // Emission of the front face.
-    if (front) {
-        float3 le = beta * wp_xyz(m.emission);
-        if (wp_all_finite3(le))
-            radiance[path.pixel] += wp_float4(le, 0.0f);
-        else
-            atomic_inc(&counters[WP_COUNTER_SHADE_NONFINITE]);
+    // Emission of the front face, weighted against light sampling where that could have
+    // found this point too (non-specular previous bounce of a path that continued).
+    if (front && wp_max_component(wp_xyz(m.emission)) > 0.0f) {
+        float w = 1.0f;
+#if WP_HAVE_NEE
+        float pdf_area = lights.pdf_area[hit.prim];
+        if (bounce > 0 && !(path.flags & WP_PATH_SPECULAR) && pdf_area > 0.0f) {
+#if WP_SAMPLING == WP_SAMPLING_MIS
+            // Light density of this direction over solid angle at the previous vertex.
+            float dist = hit.t * length(d);
+            float p_light = wp_light_pdf_solid_angle(pdf_area, dist * dist, -dot(normalize(d), n));
+            w = wp_power_heuristic(path.bsdf_pdf, p_light);
+#else
+            w = 0.0f;  // NEE only: light sampling alone counts this light
+#endif
+        }
+#endif
+        if (w > 0.0f) wp_add_radiance(radiance, path.pixel, beta * wp_xyz(m.emission) * w, counters);
     }
 #endif
     if (bounce >= max_depth) return 0;
 
-    // Scatter: sample the material on the side the ray came from.
     float3 ns = front ? n : -n;
+    float3 dn = normalize(d);
+    float b0 = 1.0f - hit.u - hit.v;
+    float3 p = v0 * b0 + v1 * hit.u + v2 * hit.v;
+    float3 org = wp_offset_ray_origin(p, ns);
+
+#if WP_HAVE_NEE
+    // Next-event estimation: a point on a light chosen by power; the shadow ray is traced
+    // by intersect.shadow and shadow.resolve adds shadow_contrib[pixel] when unoccluded.
+    if (m.kind != WP_MATERIAL_MIRROR && m.kind != WP_MATERIAL_GLASS && lights.count > 0) {
+        float4 ul = wp_rng4(seed, (uint)path.pixel, sample, (uint)bounce, WP_RNG_LIGHT);
+        int li = wp_light_pick(lights.cdf, lights.count, ul.z);
+        int lp = lights.prims[li];
+        Triangle lt = tris[lp];
+        float3 l0 = wp_xyz(lt.v0), l1 = wp_xyz(lt.v1), l2 = wp_xyz(lt.v2);
+        float3 ln = normalize(cross(l1 - l0, l2 - l0));
+        float2 bl = wp_sample_triangle_barycentric(ul.x, ul.y);
+        float3 y = l0 * (1.0f - bl.x - bl.y) + l1 * bl.x + l2 * bl.y;
+        float3 to = y - p;
+        float dist2 = dot(to, to);
+        float3 wi = to * (1.0f / sqrt(dist2));
+        float cos_light = -dot(wi, ln);
+        float bsdf_pdf;
+        float3 fcos = wp_bsdf_eval(m, dn, ns, wi, &bsdf_pdf);
+        float p_light = wp_light_pdf_solid_angle(lights.pdf_area[lp], dist2, cos_light);
+        if (p_light > 0.0f && wp_max_component(fcos) > 0.0f) {
+            float w = 1.0f;
+#if WP_SAMPLING == WP_SAMPLING_MIS
+            w = wp_power_heuristic(p_light, bsdf_pdf);
+#endif
+            float3 le = wp_xyz(materials[material_ids[lp]].emission);
+            float3 c = beta * fcos * le * (w / p_light);
+            if (!wp_all_finite3(c)) {
+                atomic_inc(&counters[WP_COUNTER_SHADE_NONFINITE]);
+            } else if (wp_max_component(c) > 0.0f) {
+                // Segment from the offset origin to the light point offset to its front:
+                // hits need 0 < t < 1.
+                float3 target = wp_offset_ray_origin(y, ln);
+                float3 sd = target - org;
+                shadow_ray->org = make_float4(org.x, org.y, org.z, 0.0f);
+                shadow_ray->dir = make_float4(sd.x, sd.y, sd.z, 1.0f);
+                shadow_contrib[path.pixel] = wp_float4(c, 0.0f);
+                *shadow = 1;
+            }
+        }
+    }
+#endif
+
+    // Scatter: sample the material on the side the ray came from.
     float4 u = wp_rng4(seed, (uint)path.pixel, sample, (uint)bounce, WP_RNG_BSDF);
     float3 wo, weight;
-    if (!wp_bsdf_sample(m, normalize(d), ns, u, &wo, &weight)) return 0;
+    float pdf;
+    int specular;
+    if (!wp_bsdf_sample_pdf(m, dn, ns, front, u, &wo, &weight, &pdf, &specular)) return 0;
     beta = beta * weight;
     if (!wp_all_finite3(beta) || !wp_all_finite3(wo)) {
         atomic_inc(&counters[WP_COUNTER_SHADE_NONFINITE]);
@@ -75,23 +166,33 @@ static int wp_shade_path(Ray ray, PathState path, Hit hit, __global const Triang
     }
     if (!(wp_max_component(beta) > 0.0f)) return 0;  // black: nothing more to gather
 
+#if WP_RR_DEPTH >= 0
+    // Russian roulette from bounce WP_RR_DEPTH on: survive with q = min(1, max component
+    // of the throughput) and divide by q, so the estimate stays unbiased.
+    if (bounce >= WP_RR_DEPTH) {
+        float q = min(1.0f, wp_max_component(beta));
+        float4 ur = wp_rng4(seed, (uint)path.pixel, sample, (uint)bounce, WP_RNG_RR);
+        if (ur.x >= q) return 0;
+        beta = beta * (1.0f / q);
+    }
+#endif
+
     // The continued path, from a robustly offset origin.
-    float b0 = 1.0f - hit.u - hit.v;
-    float3 p = v0 * b0 + v1 * hit.u + v2 * hit.v;
-    float3 org = wp_offset_ray_origin(p, ns);
-    next_ray->org = make_float4(org.x, org.y, org.z, 0.0f);
+    float3 org_next = dot(wo, ns) > 0.0f ? org : wp_offset_ray_origin(p, -ns);
+    next_ray->org = make_float4(org_next.x, org_next.y, org_next.z, 0.0f);
     next_ray->dir = make_float4(wo.x, wo.y, wo.z, FLT_MAX);
     next_path->throughput = wp_float4(beta, 0.0f);
     next_path->pixel = path.pixel;
     next_path->bounce = bounce + 1;
-    next_path->flags = 0;
-    next_path->pad = 0;
+    next_path->flags = specular ? WP_PATH_SPECULAR : 0;
+    next_path->bsdf_pdf = pdf;
     return 1;
 }
 
-// The push is aggregated per work-group: survivors take slots from a local counter, and
+// The pushes are aggregated per work-group: survivors take slots from a local counter, and
 // one work-item reserves the group's range with a single global atomic_add (so 1 global
-// atomic per 64 paths instead of one per path). Every work-item reaches the barriers.
+// atomic per 64 paths instead of one per path), for each queue. Every work-item reaches
+// the barriers.
 __kernel void shade_surface(__global const Ray* rays_in, __global const PathState* paths_in,
                             __global const Hit* hits, __global const int* count_in,
                             __global const Triangle* tris, __global const int* material_ids,
@@ -99,38 +200,81 @@ __kernel void shade_surface(__global const Ray* rays_in, __global const PathStat
                             uint seed, uint sample, int bounce, int max_depth,
                             __global float4* radiance, __global Ray* rays_out,
                             __global PathState* paths_out, __global int* count_out,
-                            __global int* counters) {
-    __local int group_count;
-    __local int group_base;
+                            __global int* counters, __global const float* light_cdf,
+                            __global const int* light_prims,
+                            __global const float* light_pdf_area, int light_count,
+                            __global Ray* shadow_rays, __global int* shadow_pixels,
+                            __global int* shadow_count, __global float4* shadow_contrib) {
+    __local int group_count, group_base, shadow_group_count, shadow_group_base;
     int i = wp_global_id();
     int lid = (int)get_local_id(0);
-    if (lid == 0) group_count = 0;
+    if (lid == 0) {
+        group_count = 0;
+        shadow_group_count = 0;
+    }
     barrier(CLK_LOCAL_MEM_FENCE);
 
-    Ray next_ray;
+    LightTable lights;
+    lights.cdf = light_cdf;
+    lights.prims = light_prims;
+    lights.pdf_area = light_pdf_area;
+    lights.count = light_count;
+    Ray next_ray, shadow_ray;
     PathState next_path;
-    int push = 0;
-    if (i < count_in[0])
-        push = wp_shade_path(rays_in[i], paths_in[i], hits[i], tris, material_ids, materials,
-                             background, seed, sample, bounce, max_depth, radiance, counters,
-                             &next_ray, &next_path);
+    int push = 0, shadow = 0, pixel = 0;
+    if (i < count_in[0]) {
+        PathState path = paths_in[i];
+        pixel = path.pixel;
+        push = wp_shade_path(rays_in[i], path, hits[i], tris, material_ids, materials,
+                             background, seed, sample, bounce, max_depth, lights, radiance,
+                             shadow_contrib, counters, &next_ray, &next_path, &shadow,
+                             &shadow_ray);
+    }
     int local_slot = push ? atomic_inc(&group_count) : 0;
+    int shadow_local_slot = shadow ? atomic_inc(&shadow_group_count) : 0;
     barrier(CLK_LOCAL_MEM_FENCE);
-    if (lid == 0) group_base = group_count > 0 ? atomic_add(count_out, group_count) : 0;
+    if (lid == 0) {
+        group_base = group_count > 0 ? atomic_add(count_out, group_count) : 0;
+        shadow_group_base =
+            shadow_group_count > 0 ? atomic_add(shadow_count, shadow_group_count) : 0;
+    }
     barrier(CLK_LOCAL_MEM_FENCE);
     if (push) {
         int slot = group_base + local_slot;
         rays_out[slot] = next_ray;
         paths_out[slot] = next_path;
     }
+    if (shadow) {
+        int slot = shadow_group_base + shadow_local_slot;
+        shadow_rays[slot] = shadow_ray;
+        shadow_pixels[slot] = pixel;
+    }
+}
+
+// shadow.resolve — after intersect.shadow (any hit) of the shadow queue.
+// reads   hits[i], shadow_pixels[i] for i < shadow_count[0]; shadow_contrib[pixel]
+// writes  radiance[pixel] += shadow_contrib[pixel] when the shadow ray was unoccluded
+// One shadow ray per pixel per bounce: indexed by pixel, so the order of the queue does
+// not matter.
+__kernel void shadow_resolve(__global const Hit* hits, __global const int* shadow_pixels,
+                             __global const int* shadow_count,
+                             __global const float4* shadow_contrib, __global float4* radiance) {
+    int i = wp_global_id();
+    if (i >= shadow_count[0]) return;
+    if (hits[i].prim >= 0) return;  // occluded
+    int pixel = shadow_pixels[i];
+    radiance[pixel] += shadow_contrib[pixel];
 }
 
 // queue.reset — queue upkeep between intersect and shade, one work-item.
-// reads   count_in[0] (rays traced by this bounce)   writes ray_total[0] += count_in[0]
-//         (64-bit total of rays traced, for Mrays/s), count_out[0] = 0 (empty next queue)
+// reads   count_in[0] (rays traced by this bounce), shadow_count[0] (shadow rays traced
+//         after the previous shade)
+// writes  ray_total[0] += both (64-bit total of rays traced, for Mrays/s), count_out[0] = 0
+//         and shadow_count[0] = 0 (empty next queues)
 __kernel void queue_reset(__global const int* count_in, __global int* count_out,
-                          __global ulong* ray_total) {
+                          __global ulong* ray_total, __global int* shadow_count) {
     if (get_global_id(0) != 0) return;
-    ray_total[0] += (ulong)count_in[0];
+    ray_total[0] += (ulong)count_in[0] + (ulong)shadow_count[0];
     count_out[0] = 0;
+    shadow_count[0] = 0;
 }

@@ -22,8 +22,13 @@ struct Rendered {
 };
 
 Rendered render_scene(const Scene& scene, int w, int h, int spp, int depth, std::uint32_t seed,
-                      render::Traversal traversal = render::Traversal::Stackless) {
+                      render::Traversal traversal = render::Traversal::Stackless,
+                      render::Sampling sampling = render::Sampling::Mis, int rr_depth = 3,
+                      bool sobol = true) {
     render::RenderSettings s;
+    s.sobol = sobol;
+    s.sampling = sampling;
+    s.rr_depth = rr_depth;
     s.traversal = traversal;
     s.width = w;
     s.height = h;
@@ -46,39 +51,62 @@ TEST_CASE("render: closed furnace box converges to Le (1 + rho + ... + rho^D)", 
     const float le = 0.5f, rho = 0.6f;
     Scene scene = make_closed_box_furnace(le, rho);
     const int w = 64, h = 48;
-    for (int depth : {0, 1, 3}) {
-        Rendered r = render_scene(scene, w, h, 8, depth, 42);
-        double expected = 0, term = le;
-        for (int k = 0; k <= depth; ++k, term *= rho) expected += term;
-        // Standard error from the image itself: every pixel has the same expectation, so the
-        // spread of the pixel means across the image estimates the error of their average.
-        const int n = w * h;
-        for (int ch = 0; ch < 3; ++ch) {
-            double sum = 0, sum2 = 0;
-            for (int i = 0; i < n; ++i) {
-                double v = r.image.rgb[3 * i + ch];
-                sum += v;
-                sum2 += v * v;
+    using render::Sampling;
+    // Every strategy; (depth, rr_depth): without roulette, and depth 6 with Russian
+    // roulette from bounce 1 on, which must leave the expectation unchanged.
+    struct Case {
+        int depth, rr_depth;
+    };
+    // Both samplers (Owen-scrambled Sobol and the counter-based random numbers).
+    for (bool sobol : {true, false})
+    for (Sampling sampling : {Sampling::Uniform, Sampling::Cosine, Sampling::Nee, Sampling::Mis})
+        for (Case cs : {Case{0, -1}, Case{1, -1}, Case{3, -1}, Case{6, 1}}) {
+            const int depth = cs.depth;
+            Rendered r = render_scene(scene, w, h, 8, depth, 42, render::Traversal::Stackless,
+                                      sampling, cs.rr_depth, sobol);
+            double expected = 0, term = le;
+            for (int k = 0; k <= depth; ++k, term *= rho) expected += term;
+            // Standard error from the image itself: every pixel has the same expectation, so
+            // the spread of the pixel means across the image estimates the error of their
+            // average.
+            const int n = w * h;
+            for (int ch = 0; ch < 3; ++ch) {
+                double sum = 0, sum2 = 0;
+                for (int i = 0; i < n; ++i) {
+                    double v = r.image.rgb[3 * i + ch];
+                    sum += v;
+                    sum2 += v * v;
+                }
+                double mean = sum / n;
+                double var = std::max(0.0, (sum2 - n * mean * mean) / (n - 1));
+                double se = std::sqrt(var / n);
+                INFO("sampler " << (sobol ? "sobol" : "random") << " sampling "
+                                << render::sampling_name(sampling) << " depth " << depth
+                                 << " rr_depth " << cs.rr_depth << " channel " << ch << ": mean "
+                                 << mean << " expected " << expected << " standard error " << se);
+                if (depth == 0) {
+                    CHECK(mean == Approx(expected).epsilon(1e-6));  // no randomness at depth 0
+                    CHECK(se < 1e-7);
+                } else {
+                    // (cosine sampling is exact here: every path weighs ρ per bounce, so
+                    // se is rounding only; hence the small absolute allowance)
+                    CHECK(std::abs(mean - expected) < 4.0 * se + 1e-5 * expected);
+                    // The test has power; NEE alone is noisier in a box of emitting walls
+                    // (light points next to the receiver: 1 / distance²).
+                    CHECK(se < (sampling == Sampling::Nee ? 0.02 : 0.01) * expected);
+                }
             }
-            double mean = sum / n;
-            double var = std::max(0.0, (sum2 - n * mean * mean) / (n - 1));
-            double se = std::sqrt(var / n);
-            INFO("depth " << depth << " channel " << ch << ": mean " << mean << " expected "
-                          << expected << " standard error " << se);
-            if (depth == 0) {
-                CHECK(mean == Approx(expected).epsilon(1e-6));  // no randomness at depth 0
-                CHECK(se < 1e-7);
-            } else {
-                CHECK(std::abs(mean - expected) < 4.0 * se);
-                CHECK(se < 0.01 * expected);  // the test has power
-            }
+            CHECK(r.counters[WP_COUNTER_SHADE_NONFINITE] == 0);
+            CHECK(r.counters[WP_COUNTER_ACCUMULATE_NONFINITE] == 0);
+            // Nothing escapes and every diffuse bounce survives (weight > 0): without light
+            // sampling and roulette every queue is full, so the ray count is exact; shadow
+            // rays add to it, roulette takes from it.
+            const std::uint64_t full = std::uint64_t(n) * 8 * (depth + 1);
+            bool nee = sampling == Sampling::Nee || sampling == Sampling::Mis;
+            if (cs.rr_depth < 0 && !nee) CHECK(r.rays == full);
+            if (cs.rr_depth < 0 && nee && depth > 0) CHECK(r.rays > full);
+            if (cs.rr_depth >= 0 && !nee) CHECK(r.rays < full);
         }
-        CHECK(r.counters[WP_COUNTER_SHADE_NONFINITE] == 0);
-        CHECK(r.counters[WP_COUNTER_ACCUMULATE_NONFINITE] == 0);
-        // Nothing escapes and every diffuse bounce survives (weight 2ρ cos θ > 0): every
-        // queue is full, so the ray count is exact.
-        CHECK(r.rays == std::uint64_t(n) * 8 * (depth + 1));
-    }
 }
 
 TEST_CASE("render: the same seed gives a bit-identical image, another seed another one",
@@ -120,4 +148,12 @@ TEST_CASE("render: kernel options follow the scene's materials", "[render]") {
     CHECK(cfg.options().find("-D WP_HAVE_MIRROR=0") != std::string::npos);
     auto box = render::KernelConfig::from_scene(make_cornell_box(200));
     CHECK((box.diffuse && box.mirror && box.glossy && box.emission));
+    // Light sampling only for strategies that use it and scenes that emit.
+    box.sampling = render::Sampling::Mis;
+    CHECK(box.options().find("-D WP_HAVE_NEE=1") != std::string::npos);
+    box.sampling = render::Sampling::Cosine;
+    CHECK(box.options().find("-D WP_HAVE_NEE=0") != std::string::npos);
+    box.sampling = render::Sampling::Mis;
+    box.emission = false;
+    CHECK(box.options().find("-D WP_HAVE_NEE=0") != std::string::npos);
 }

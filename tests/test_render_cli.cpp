@@ -125,8 +125,13 @@ TEST_CASE("render CLI: a small render writes only the -o file and the profile", 
     for (auto& s : j["stages"]) has_intersect |= s["name"] == "intersect.closest";
     CHECK(has_intersect);
     auto t = nlohmann::json::parse(std::ifstream(d.path / "prof.trace.json"));
-    // 2 frames x (generate + 3 x (intersect, reset, shade) + accumulate) complete events.
+    // 2 frames x (generate + 3 x (intersect, reset, shade) + 2 x (intersect.shadow,
+    // shadow.resolve) + accumulate) complete events: the default --sampling mis traces
+    // shadow rays after every bounce but the last.
     int complete = 0;
     for (auto& e : t["traceEvents"]) complete += e["ph"] == "X";
-    CHECK(complete == 2 * (1 + 3 * 3 + 1));
+    CHECK(complete == 2 * (1 + 3 * 3 + 2 * 2 + 1));
+    bool has_shadow = false;
+    for (auto& s : j["stages"]) has_shadow |= s["name"] == "intersect.shadow";
+    CHECK(has_shadow);
 }

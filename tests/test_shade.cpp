@@ -84,6 +84,17 @@ ShadeOut run_shade(const ShadeCase& c) {
     k.setArg(a++, b_paths_out);
     k.setArg(a++, b_count_out);
     k.setArg(a++, b_cnt);
+    // No light table (the generic program has no NEE): placeholders.
+    cl::Buffer b_dummy(dev.context, CL_MEM_READ_WRITE, 64);
+    k.setArg(a++, b_dummy);
+    k.setArg(a++, b_dummy);
+    k.setArg(a++, b_dummy);
+    k.setArg(a++, 0);
+    k.setArg(a++, b_dummy);
+    k.setArg(a++, b_dummy);
+    cl::Buffer b_shadow_count = upload(std::vector<int>{0});
+    k.setArg(a++, b_shadow_count);
+    k.setArg(a++, b_dummy);
     ocl::launch(dev.queue, k, "shade", n);
     ShadeOut o;
     dev.queue.enqueueReadBuffer(b_count_out, CL_TRUE, 0, sizeof(int), &o.count);

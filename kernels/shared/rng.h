@@ -11,12 +11,23 @@
 #define WP_RNG_H
 
 #include "compat.h"
+#include "sobol.h"
+
+// The sampler (--sampler): 0 = the counter-based pcg4d numbers below, 1 = Owen-scrambled
+// Sobol points (sobol.h) indexed by the sample, scrambled per (seed, pixel, bounce, group).
+#define WP_SAMPLER_RANDOM 0
+#define WP_SAMPLER_SOBOL 1
+#ifndef WP_SAMPLER
+#define WP_SAMPLER WP_SAMPLER_RANDOM
+#endif
 
 WP_NAMESPACE_BEGIN
 
 // Dimension groups (4 numbers each) within one bounce. New consumers take new groups.
 #define WP_RNG_CAMERA 0    // bounce 0 only: (pixel jitter x, y, unused, unused)
 #define WP_RNG_BSDF 1      // direction sampling at a surface: (u1, u2, lobe choice, unused)
+#define WP_RNG_LIGHT 2     // next-event estimation: (point u1, point u2, light choice, unused)
+#define WP_RNG_RR 3        // Russian roulette: (survival, unused, unused, unused)
 #define WP_RNG_GROUPS 16   // groups per bounce (the key packs bounce * 16 + group)
 
 typedef struct Rng4 {
@@ -50,8 +61,21 @@ WP_FN Rng4 wp_pcg4d(uint a, uint b, uint c, uint d) {
 WP_FN float wp_uint_to_unit(uint x) { return (float)(x >> 8) * (1.0f / 16777216.0f); }
 
 // Four uniform numbers in [0, 1) for (seed, pixel, sample, bounce, group).
+// With WP_SAMPLER_SOBOL: the sample-th Owen-scrambled Sobol point, its scramble seed
+// hashed from (pixel, bounce, group, seed), so every pixel and dimension group gets an
+// independent scramble of the same low-discrepancy sequence.
 WP_FN float4 wp_rng4(uint seed, uint pixel, uint sample, uint bounce, uint group) {
+#if WP_SAMPLER == WP_SAMPLER_SOBOL
+    Rng4 h = wp_pcg4d(pixel, bounce * (uint)WP_RNG_GROUPS + group, seed, 0x50b01u);
+    uint4 q = wp_sobol_owen4(sample, h.x);
+    Rng4 r;
+    r.x = q.x;
+    r.y = q.y;
+    r.z = q.z;
+    r.w = q.w;
+#else
     Rng4 r = wp_pcg4d(pixel, sample, bounce * (uint)WP_RNG_GROUPS + group, seed);
+#endif
     return make_float4(wp_uint_to_unit(r.x), wp_uint_to_unit(r.y), wp_uint_to_unit(r.z),
                        wp_uint_to_unit(r.w));
 }

@@ -56,6 +56,84 @@ WP_FN float wp_phong_lobe_pdf(float cos_alpha, float exponent) {
     return cos_alpha > 0.0f ? (exponent + 1.0f) * WP_INV_2PI * pow(cos_alpha, exponent) : 0.0f;
 }
 
+// Cosine-weighted over the hemisphere z > 0 (Malley's method: uniform on the unit disk,
+// projected up): density cos θ / π per steradian. 1 - u1 in (0, 1]: never exactly grazing.
+WP_FN float3 wp_sample_cosine_hemisphere(float u1, float u2) {
+    float r = sqrt(u1);
+    float phi = 2.0f * WP_PI * u2;
+    return make_float3(r * cos(phi), r * sin(phi), sqrt(1.0f - u1));
+}
+WP_FN float wp_cosine_hemisphere_pdf(float cos_theta) {
+    return cos_theta > 0.0f ? cos_theta * WP_INV_PI : 0.0f;
+}
+
+// --- GGX (Trowbridge-Reitz) microfacet distribution, local frame (+z = normal) --------
+// Walter, Marschner, Li & Torrance, "Microfacet Models for Refraction through Rough
+// Surfaces", EGSR 2007 (D, Smith Λ); Heitz, "Understanding the Masking-Shadowing Function
+// in Microfacet-Based BRDFs", JCGT 3(2), 2014 (height-correlated G2); Heitz, "Sampling the
+// GGX Distribution of Visible Normals", JCGT 7(4), 2018 (wp_ggx_sample_vndf, listing 1).
+// α is the roughness (width) parameter; the Phong exponent n maps to α = sqrt(2 / (n + 2))
+// (Walter et al. 2007, section 5.2).
+WP_FN float wp_phong_to_ggx_alpha(float exponent) { return sqrt(2.0f / (exponent + 2.0f)); }
+
+// D(h): microfacet normals per steradian per unit projected area; h.z > 0.
+WP_FN float wp_ggx_d(float3 h, float alpha) {
+    if (!(h.z > 0.0f)) return 0.0f;
+    float a2 = alpha * alpha;
+    float t = h.z * h.z * (a2 - 1.0f) + 1.0f;
+    return a2 / (WP_PI * t * t);
+}
+
+// Smith Λ(w) for GGX: (-1 + sqrt(1 + α² tan² θ)) / 2.
+WP_FN float wp_ggx_lambda(float3 w, float alpha) {
+    float c2 = w.z * w.z;
+    float s2 = max(0.0f, 1.0f - c2);
+    if (!(c2 > 0.0f)) return FLT_MAX;
+    return 0.5f * (-1.0f + sqrt(1.0f + alpha * alpha * s2 / c2));
+}
+WP_FN float wp_ggx_g1(float3 w, float alpha) { return 1.0f / (1.0f + wp_ggx_lambda(w, alpha)); }
+// Height-correlated masking-shadowing G2(wo, wi) = 1 / (1 + Λ(wo) + Λ(wi)).
+WP_FN float wp_ggx_g2(float3 wo, float3 wi, float alpha) {
+    return 1.0f / (1.0f + wp_ggx_lambda(wo, alpha) + wp_ggx_lambda(wi, alpha));
+}
+
+// A microfacet normal h from the distribution of normals visible from wo (wo.z > 0):
+// density D_wo(h) = G1(wo) max(0, wo·h) D(h) / wo.z (Heitz 2018, listing 1).
+WP_FN float3 wp_ggx_sample_vndf(float3 wo, float alpha, float u1, float u2) {
+    // Stretch the view direction to the hemisphere configuration.
+    float3 vh = normalize(make_float3(alpha * wo.x, alpha * wo.y, wo.z));
+    // Orthonormal basis around vh (T1 = (1, 0, 0) when vh is +z).
+    float lensq = vh.x * vh.x + vh.y * vh.y;
+    float3 t1 = lensq > 0.0f ? make_float3(-vh.y, vh.x, 0.0f) * (1.0f / sqrt(lensq))
+                             : make_float3(1.0f, 0.0f, 0.0f);
+    float3 t2 = cross(vh, t1);
+    // Uniform point on the disk, warped towards the visible half.
+    float r = sqrt(u1);
+    float phi = 2.0f * WP_PI * u2;
+    float p1 = r * cos(phi);
+    float p2 = r * sin(phi);
+    float s = 0.5f * (1.0f + vh.z);
+    p2 = (1.0f - s) * sqrt(max(0.0f, 1.0f - p1 * p1)) + s * p2;
+    // Project onto the hemisphere and unstretch.
+    float3 nh = t1 * p1 + t2 * p2 + vh * sqrt(max(0.0f, 1.0f - p1 * p1 - p2 * p2));
+    return normalize(make_float3(alpha * nh.x, alpha * nh.y, max(1e-6f, nh.z)));
+}
+
+// Density over solid angle of wi = reflect(-wo, h) with h from wp_ggx_sample_vndf:
+// D_wo(h) / (4 wo·h) = G1(wo) D(h) / (4 wo.z).
+WP_FN float wp_ggx_reflect_pdf(float3 wo, float3 wi, float alpha) {
+    if (!(wo.z > 0.0f) || !(wi.z > 0.0f)) return 0.0f;
+    float3 h = normalize(wo + wi);
+    return wp_ggx_g1(wo, alpha) * wp_ggx_d(h, alpha) / (4.0f * wo.z);
+}
+
+// World to the local frame around unit axis n (inverse of wp_to_world).
+WP_FN float3 wp_to_local(float3 w, float3 n) {
+    float3 t, b;
+    wp_onb(n, &t, &b);
+    return make_float3(dot(w, t), dot(w, b), dot(w, n));
+}
+
 // Mirror reflection of direction d about unit normal n (d points towards the surface).
 WP_FN float3 wp_reflect(float3 d, float3 n) { return d - n * (2.0f * dot(d, n)); }
 

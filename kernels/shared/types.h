@@ -139,8 +139,10 @@ typedef struct TraceStats {
     X(__builtin_offsetof(CameraData, up)) X(__builtin_offsetof(CameraData, width))        \
     X(__builtin_offsetof(CameraData, jitter)) X(sizeof(MaterialData))                     \
     X(__builtin_offsetof(MaterialData, emission)) X(__builtin_offsetof(MaterialData, kind)) \
+    X(__builtin_offsetof(MaterialData, ior))                                              \
     X(sizeof(PathState)) X(__builtin_offsetof(PathState, pixel))                          \
-    X(__builtin_offsetof(PathState, flags)) X(sizeof(FilmPixel))                          \
+    X(__builtin_offsetof(PathState, flags)) X(__builtin_offsetof(PathState, bsdf_pdf))     \
+    X(sizeof(FilmPixel))                          \
     X(__builtin_offsetof(FilmPixel, comp))
 
 // ===================================================================================
@@ -165,13 +167,15 @@ typedef struct CameraData {
 #define WP_MATERIAL_DIFFUSE 0
 #define WP_MATERIAL_MIRROR 1
 #define WP_MATERIAL_GLOSSY 2
+#define WP_MATERIAL_GLASS 3
 
 // A material as the shade stage reads it. 48 bytes.
 typedef struct MaterialData {
     float4 albedo;    // xyz: reflectance in [0, 1] per channel; w: glossy Phong exponent
     float4 emission;  // xyz: emitted radiance (W sr^-1 m^-2), front side only; w: 0
     int kind;         // WP_MATERIAL_*
-    int pad0;         // 0
+    float ior;        // glass: index of refraction, inside (behind the front face) / outside;
+                      // 0 for other kinds
     int pad1;         // 0
     int pad2;         // 0
 } MaterialData;
@@ -183,9 +187,11 @@ typedef struct PathState {
     float4 throughput;  // xyz: path throughput (product of BSDF * cos / pdf, unitless); w: 0
     int pixel;          // pixel index y * width + x
     int bounce;         // surface interactions so far (0 for camera rays)
-    int flags;          // reserved (0); later: last bounce was specular, for MIS
-    int pad;            // 0
+    int flags;          // WP_PATH_* bits: WP_PATH_SPECULAR = the last bounce was specular
+    float bsdf_pdf;     // density (per steradian) with which the last bounce drew this ray's
+                        // direction, for MIS weights; 0 for camera rays and specular bounces
 } PathState;
+#define WP_PATH_SPECULAR 1
 
 // Accumulated sum of one film pixel: per channel a double-float pair (hi, lo) whose value
 // is sum + comp, kept normalised (|comp| <= ulp(sum) / 2) by film.h (Joldes, Muller &
@@ -222,9 +228,10 @@ static_assert(sizeof(wp::TraceStats) == 8);
 // Render stage types.
 static_assert(sizeof(wp::CameraData) == 80 && offsetof(wp::CameraData, width) == 64 &&
               offsetof(wp::CameraData, jitter) == 72);
-static_assert(sizeof(wp::MaterialData) == 48 && offsetof(wp::MaterialData, kind) == 32);
+static_assert(sizeof(wp::MaterialData) == 48 && offsetof(wp::MaterialData, kind) == 32 &&
+              offsetof(wp::MaterialData, ior) == 36);
 static_assert(sizeof(wp::PathState) == 32 && offsetof(wp::PathState, pixel) == 16 &&
-              offsetof(wp::PathState, flags) == 24);
+              offsetof(wp::PathState, flags) == 24 && offsetof(wp::PathState, bsdf_pdf) == 28);
 static_assert(sizeof(wp::FilmPixel) == 32 && offsetof(wp::FilmPixel, comp) == 16);
 #endif
 

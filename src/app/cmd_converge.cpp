@@ -86,7 +86,7 @@ Config parse_config(const std::string& spec) {
     try {
         parser.parse(c.options, false);
     } catch (const CLI::ParseError& e) {
-        fail("--config '{}': {} (a configuration takes --depth, --size, --device, --traversal)",
+        fail("--config '{}': {} (a configuration takes --depth, --size, --device, --traversal, --sampling, --glossy, --rr-depth)",
              spec, e.what());
     }
     return c;
@@ -294,7 +294,7 @@ Subcommand add_converge(CLI::App& app) {
         ->capture_default_str();
     c->add_option("--config", args->configs,
                   "A configuration NAME=OPTIONS, OPTIONS being render options (--depth, --size, "
-                  "--device, --traversal), e.g. \"d2=--depth 2 --size 200x150\"; repeatable")
+                  "--device, --traversal, --sampling, --glossy, --rr-depth), e.g. \"d2=--depth 2 --size 200x150\"; repeatable")
         ->take_all()
         ->allow_extra_args(false);
     c->add_option("--csv", args->csv, "CSV output")->capture_default_str();

@@ -37,7 +37,7 @@ struct RenderArgs {
     std::string scene;     // empty: the built-in Cornell box
     int spp = 64;
     double time_s = 0.0;   // 0: no time limit
-    ConfigArgs config;     // depth, size, device, traversal (app/render_options.h)
+    ConfigArgs config;     // depth, size, device, traversal, sampling, glossy, rr-depth (app/render_options.h)
     std::uint32_t seed = 0;
     std::string output;    // empty: render.exr + render.png in the current folder
     std::string profile;   // profile JSON path; the trace goes next to it
@@ -180,6 +180,10 @@ int run_render(const RenderArgs& a) {
         j["settings"] = {{"width", s.width}, {"height", s.height}, {"spp_requested", a.spp},
                          {"spp", res.frames}, {"depth", s.depth}, {"seed", s.seed},
                          {"traversal", render::traversal_name(s.traversal)},
+                         {"sampling", render::sampling_name(s.sampling)},
+                         {"glossy", render::glossy_name(s.glossy)},
+                         {"rr_depth", s.rr_depth},
+                         {"sampler", s.sobol ? "sobol" : "random"},
                          {"time_limit_s", a.time_s}, {"wall_s", res.wall_s},
                          {"render_s", res.render_s}};
         if (err)

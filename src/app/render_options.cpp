@@ -29,6 +29,25 @@ void add_config_options(CLI::App* c, ConfigArgs& a) {
                   "the default) or stack (the small private-stack traversal, kept as the "
                   "oracle and speed reference)")
         ->capture_default_str();
+    c->add_option("--sampling", a.sampling,
+                  "Estimator: uniform (the original: uniform hemisphere, no light sampling), "
+                  "cosine (BSDF sampling only: cosine diffuse, GGX visible normals), nee "
+                  "(cosine + next-event estimation to emissive triangles) or mis (NEE and "
+                  "BSDF sampling combined by the power heuristic; the default)")
+        ->capture_default_str();
+    c->add_option("--glossy", a.glossy,
+                  "Glossy BRDF: ggx (microfacet, roughness sqrt(2 / (exponent + 2)); the "
+                  "default) or phong (the original weighted Phong lobe)")
+        ->capture_default_str();
+    c->add_option("--sampler", a.sampler,
+                  "Sample numbers: sobol (Owen-scrambled Sobol points, Burley 2020, per pixel "
+                  "and dimension group; the default) or random (the counter-based pcg4d "
+                  "numbers of the original)")
+        ->capture_default_str();
+    c->add_option("--rr-depth", a.rr_depth,
+                  "Russian roulette from this bounce on (survival min(1, max throughput "
+                  "component), unbiased); -1 disables it. Paths still end at --depth")
+        ->capture_default_str();
 }
 
 render::RenderSettings make_settings(const ConfigArgs& a, const Scene& scene) {
@@ -55,6 +74,13 @@ render::RenderSettings make_settings(const ConfigArgs& a, const Scene& scene) {
     else
         fail("--traversal '{}': expected stackless or stack", a.traversal);
     s.depth = a.depth;
+    s.sampling = render::parse_sampling(a.sampling);
+    s.glossy = render::parse_glossy(a.glossy);
+    if (a.rr_depth < -1) fail("--rr-depth must be -1 (off) or >= 0 (got {})", a.rr_depth);
+    s.rr_depth = a.rr_depth;
+    if (a.sampler != "random" && a.sampler != "sobol")
+        fail("--sampler '{}': expected random or sobol", a.sampler);
+    s.sobol = a.sampler == "sobol";
     return s;
 }
 
@@ -62,9 +88,10 @@ Scene load_scene(const std::string& arg) {
     if (arg.empty() || arg == "builtin:cornell-box") return make_cornell_box();
     // The analytic furnace of the render tests: emission 0.5, albedo 0.6.
     if (arg == "builtin:closed-box-furnace") return make_closed_box_furnace(0.5f, 0.6f);
+    if (arg == "builtin:veach-plates") return make_veach_plates();
     if (arg.rfind("builtin:", 0) == 0)
         fail("scene '{}': unknown built-in scene (builtin:cornell-box, "
-             "builtin:closed-box-furnace)", arg);
+             "builtin:closed-box-furnace, builtin:veach-plates)", arg);
     fs::path p(arg);
     std::error_code ec;
     if (!fs::exists(p, ec)) fail("scene file '{}' not found", arg);

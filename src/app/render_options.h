@@ -22,9 +22,13 @@ struct ConfigArgs {
     std::string size;                    // "WxH"; empty: the scene camera's size
     std::string device;
     std::string traversal = "stackless";  // stackless | stack
+    std::string sampling = "mis";         // uniform | cosine | nee | mis
+    std::string glossy = "ggx";           // phong | ggx
+    std::string sampler = "sobol";        // sobol | random
+    int rr_depth = 3;                     // Russian roulette from this bounce on; -1 off
 };
 
-// Registers --depth, --size, --device, --traversal on `c`.
+// Registers --depth, --size, --device, --traversal, --sampling, --glossy, --rr-depth on `c`.
 void add_config_options(CLI::App* c, ConfigArgs& a);
 
 // Validates the options and fills the settings (size from the scene when not given).
@@ -32,8 +36,8 @@ void add_config_options(CLI::App* c, ConfigArgs& a);
 render::RenderSettings make_settings(const ConfigArgs& a, const Scene& scene);
 
 // The built-in Cornell box for an empty argument or "builtin:cornell-box", the furnace box
-// of the render tests (emission 0.5, albedo 0.6) for "builtin:closed-box-furnace", else the
-// scene file (.obj).
+// of the render tests (emission 0.5, albedo 0.6) for "builtin:closed-box-furnace", the
+// MIS test scene for "builtin:veach-plates", else the scene file (.obj).
 Scene load_scene(const std::string& arg);
 
 // Fails unless `path` can be created: a supported extension (when an image), an existing,

@@ -2,15 +2,44 @@
 
 #include <fmt/format.h>
 
+#include "util/error.h"
+
 namespace wp::render {
+
+const char* sampling_name(Sampling s) {
+    switch (s) {
+        case Sampling::Uniform: return "uniform";
+        case Sampling::Cosine: return "cosine";
+        case Sampling::Nee: return "nee";
+        case Sampling::Mis: return "mis";
+    }
+    return "?";
+}
+
+const char* glossy_name(GlossyModel g) { return g == GlossyModel::Phong ? "phong" : "ggx"; }
+
+Sampling parse_sampling(const std::string& s) {
+    if (s == "uniform") return Sampling::Uniform;
+    if (s == "cosine") return Sampling::Cosine;
+    if (s == "nee") return Sampling::Nee;
+    if (s == "mis") return Sampling::Mis;
+    fail("--sampling '{}': expected uniform, cosine, nee or mis", s);
+}
+
+GlossyModel parse_glossy(const std::string& s) {
+    if (s == "phong") return GlossyModel::Phong;
+    if (s == "ggx") return GlossyModel::Ggx;
+    fail("--glossy '{}': expected phong or ggx", s);
+}
 
 KernelConfig KernelConfig::from_scene(const Scene& scene) {
     KernelConfig c;
-    c.diffuse = c.mirror = c.glossy = c.emission = false;
+    c.diffuse = c.mirror = c.glossy = c.glass = c.emission = false;
     for (const Material& m : scene.materials) {
         c.diffuse |= m.kind == MaterialKind::Diffuse;
         c.mirror |= m.kind == MaterialKind::Mirror;
         c.glossy |= m.kind == MaterialKind::Glossy;
+        c.glass |= m.kind == MaterialKind::Glass;
         c.emission |= m.emissive();
     }
     return c;
@@ -18,9 +47,11 @@ KernelConfig KernelConfig::from_scene(const Scene& scene) {
 
 std::string KernelConfig::options() const {
     return fmt::format("-D WP_HAVE_DIFFUSE={} -D WP_HAVE_MIRROR={} -D WP_HAVE_GLOSSY={} "
-                       "-D WP_HAVE_EMISSION={} -D WP_DIFFUSE_SAMPLING={}",
-                       int(diffuse), int(mirror), int(glossy), int(emission),
-                       static_cast<int>(diffuse_sampling));
+                       "-D WP_HAVE_GLASS={} -D WP_HAVE_EMISSION={} -D WP_SAMPLING={} -D WP_GLOSSY_MODEL={} "
+                       "-D WP_HAVE_NEE={} -D WP_RR_DEPTH={} -D WP_SAMPLER={}",
+                       int(diffuse), int(mirror), int(glossy), int(glass), int(emission),
+                       static_cast<int>(sampling), static_cast<int>(glossy_model), int(nee()),
+                       rr_depth, int(sobol));
 }
 
 }  // namespace wp::render

@@ -1,8 +1,10 @@
 // kernel_config.h — what the kernels must model for one scene, as compile options.
 //
-// Derived from the scene (which material kinds exist, whether anything emits) and turned
-// into a short -D option string for shade.cl; code for absent material kinds is not
-// compiled. The option string is part of the program cache key (cl/program.h).
+// Derived from the scene (which material kinds exist, whether anything emits) and the
+// render settings (sampling strategy, glossy model, Russian roulette), and turned into a
+// short -D option string for shade.cl; code for absent material kinds, and light sampling
+// for scenes without emitters or strategies without it, is not compiled. The option string
+// is part of the program cache key (cl/program.h).
 #pragma once
 
 #include <string>
@@ -11,16 +13,38 @@
 
 namespace wp::render {
 
-enum class DiffuseSampling : int {
-    Uniform = 0,  // uniform over the hemisphere (the original renderer); WP_SAMPLING_UNIFORM
+// --sampling (kernels/shared/bsdf.h WP_SAMPLING_*).
+enum class Sampling : int {
+    Uniform = 0,  // uniform hemisphere for diffuse, no light sampling (the original renderer)
+    Cosine = 1,   // BSDF sampling only: cosine-weighted diffuse, lobe/VNDF sampling for glossy
+    Nee = 2,      // cosine + next-event estimation (emission after specular bounces only)
+    Mis = 3,      // NEE and BSDF sampling, power heuristic (Veach & Guibas 1995)
 };
+// --glossy (WP_GLOSSY_*).
+enum class GlossyModel : int {
+    Phong = 0,  // the original weighted Phong lobe
+    Ggx = 1,    // GGX microfacet BRDF, visible-normal sampling
+};
+
+const char* sampling_name(Sampling s);
+const char* glossy_name(GlossyModel g);
+// Parse "uniform|cosine|nee|mis" / "phong|ggx"; throw wp::Error naming the option.
+Sampling parse_sampling(const std::string& s);
+GlossyModel parse_glossy(const std::string& s);
 
 struct KernelConfig {
     bool diffuse = true;   // some material is MaterialKind::Diffuse
     bool mirror = true;    // ... Mirror
     bool glossy = true;    // ... Glossy
+    bool glass = true;     // ... Glass
     bool emission = true;  // some material emits
-    DiffuseSampling diffuse_sampling = DiffuseSampling::Uniform;
+    Sampling sampling = Sampling::Uniform;
+    GlossyModel glossy_model = GlossyModel::Phong;
+    bool sobol = false;    // --sampler sobol: Owen-scrambled Sobol points (WP_SAMPLER=1)
+    int rr_depth = -1;     // first bounce at which Russian roulette may end a path; < 0 off
+
+    // Light sampling is compiled only when something emits and the strategy uses it.
+    bool nee() const { return emission && (sampling == Sampling::Nee || sampling == Sampling::Mis); }
 
     static KernelConfig from_scene(const Scene& scene);
     // "-D WP_HAVE_DIFFUSE=1 -D WP_HAVE_MIRROR=0 ..." (every switch explicit).

@@ -40,6 +40,10 @@ Wavefront::Wavefront(ocl::Device& dev, const Scene& scene, const RenderSettings&
 
     // Kernel configuration from what the scene uses.
     config_ = KernelConfig::from_scene(scene);
+    config_.sampling = settings.sampling;
+    config_.glossy_model = settings.glossy;
+    config_.rr_depth = settings.rr_depth;
+    config_.sobol = settings.sobol;
     options_ = config_.options();
 
     // BVH and scene upload.
@@ -63,6 +67,18 @@ Wavefront::Wavefront(ocl::Device& dev, const Scene& scene, const RenderSettings&
     tris_ = ocl::upload_buffer(dev, up.triangles, "the shading triangles");
     material_ids_ = ocl::upload_buffer(dev, up.material_ids, "the material ids");
     materials_ = ocl::upload_buffer(dev, up.materials, "the materials");
+    LightTable lights;
+    if (config_.nee()) lights = build_light_table(scene);
+    stats_.light_triangles = lights.size();
+    if (lights.size() > 0) {
+        light_cdf_ = ocl::upload_buffer(dev, lights.cdf, "the light CDF");
+        light_prims_ = ocl::upload_buffer(dev, lights.prims, "the light triangles");
+        light_pdf_area_ = ocl::upload_buffer(dev, lights.pdf_area, "the light densities");
+    } else {
+        light_cdf_ = make_scratch(dev, 16, "a placeholder");
+        light_prims_ = make_scratch(dev, 16, "a placeholder");
+        light_pdf_area_ = make_scratch(dev, 16, "a placeholder");
+    }
 
     // Wavefront state, sized for one path per pixel.
     std::size_t n = static_cast<std::size_t>(pixel_count());
@@ -73,6 +89,12 @@ Wavefront::Wavefront(ocl::Device& dev, const Scene& scene, const RenderSettings&
         fill_zero<int>(dev, count_[q], 1);
     }
     hits_ = make_scratch(dev, n * sizeof(Hit), "the hit buffer");
+    const std::size_t ns = config_.nee() ? n : 1;
+    shadow_rays_ = make_scratch(dev, ns * sizeof(Ray), "the shadow ray queue");
+    shadow_pixels_ = make_scratch(dev, ns * sizeof(int), "the shadow ray pixels");
+    shadow_contrib_ = make_scratch(dev, ns * sizeof(float4), "the shadow contributions");
+    shadow_count_ = make_scratch(dev, sizeof(int), "the shadow queue length");
+    fill_zero<int>(dev, shadow_count_, 1);
     radiance_ = make_scratch(dev, n * sizeof(float4), "the frame radiance");
     film_ = make_scratch(dev, n * sizeof(FilmPixel), "the film");
     fill_zero<float>(dev, film_, n * sizeof(FilmPixel) / sizeof(float));
@@ -88,7 +110,8 @@ Wavefront::Wavefront(ocl::Device& dev, const Scene& scene, const RenderSettings&
 
     // Programs (disk-cached), one per stage file.
     Timer prog_timer;
-    generate_prog_ = ocl::Program::build(dev, "generate.cl");
+    generate_prog_ = ocl::Program::build(dev, "generate.cl",
+                                         fmt::format("-D WP_SAMPLER={}", int(config_.sobol)));
     intersect_prog_ = ocl::Program::build(dev, "intersect.cl");
     shade_prog_ = ocl::Program::build(dev, "shade.cl", options_);
     accumulate_prog_ = ocl::Program::build(dev, "accumulate.cl");
@@ -98,6 +121,10 @@ Wavefront::Wavefront(ocl::Device& dev, const Scene& scene, const RenderSettings&
                                                                                 : "intersect_closest");
     reset_ = shade_prog_.kernel("queue_reset");
     shade_ = shade_prog_.kernel("shade_surface");
+    if (config_.nee()) {
+        shadow_trace_ = intersect_prog_.kernel("intersect_any");
+        shadow_resolve_ = shade_prog_.kernel("shadow_resolve");
+    }
     accumulate_ = accumulate_prog_.kernel(settings.variance ? "accumulate_film_variance"
                                                             : "accumulate_film");
 
@@ -112,6 +139,7 @@ Wavefront::Wavefront(ocl::Device& dev, const Scene& scene, const RenderSettings&
     bvh_.set_args(intersect_, 2);
     intersect_.setArg(6, hits_);
     reset_.setArg(2, ray_total_);
+    reset_.setArg(3, shadow_count_);
     shade_.setArg(2, hits_);
     shade_.setArg(4, tris_);
     shade_.setArg(5, material_ids_);
@@ -121,6 +149,27 @@ Wavefront::Wavefront(ocl::Device& dev, const Scene& scene, const RenderSettings&
     shade_.setArg(11, static_cast<cl_int>(settings_.depth));
     shade_.setArg(12, radiance_);
     shade_.setArg(16, counters_);
+    shade_.setArg(17, light_cdf_);
+    shade_.setArg(18, light_prims_);
+    shade_.setArg(19, light_pdf_area_);
+    shade_.setArg(20, static_cast<cl_int>(lights.size()));
+    shade_.setArg(21, shadow_rays_);
+    shade_.setArg(22, shadow_pixels_);
+    shade_.setArg(23, shadow_count_);
+    shade_.setArg(24, shadow_contrib_);
+    if (config_.nee()) {
+        // intersect_any(rays, queue_count, nodes, links, tris, prim_ids, hits): the shadow
+        // hits reuse the hit buffer, which shade has finished reading.
+        shadow_trace_.setArg(0, shadow_rays_);
+        shadow_trace_.setArg(1, shadow_count_);
+        bvh_.set_args(shadow_trace_, 2);
+        shadow_trace_.setArg(6, hits_);
+        shadow_resolve_.setArg(0, hits_);
+        shadow_resolve_.setArg(1, shadow_pixels_);
+        shadow_resolve_.setArg(2, shadow_count_);
+        shadow_resolve_.setArg(3, shadow_contrib_);
+        shadow_resolve_.setArg(4, radiance_);
+    }
     accumulate_.setArg(0, radiance_);
     accumulate_.setArg(1, static_cast<cl_int>(n));
     accumulate_.setArg(2, film_);
@@ -138,6 +187,7 @@ void Wavefront::reset(std::uint32_t seed) {
     if (settings_.variance) fill_zero<float>(dev_, film_sq_, n * sizeof(FilmPixel) / sizeof(float));
     fill_zero<int>(dev_, counters_, WP_COUNTER_COUNT);
     fill_zero<cl_ulong>(dev_, ray_total_, 1);
+    fill_zero<int>(dev_, shadow_count_, 1);
     settings_.seed = seed;
     generate_.setArg(1, static_cast<cl_uint>(seed));
     shade_.setArg(8, static_cast<cl_uint>(seed));
@@ -175,6 +225,11 @@ void Wavefront::reset(std::uint32_t seed) {
         shade_.setArg(14, paths_[out]);
         shade_.setArg(15, count_[out]);
         ocl::launch(q, shade_, "shade", n, &profiler_, frame);
+        // Shadow rays of this bounce's light samples (none at the last bounce).
+        if (config_.nee() && b < settings_.depth) {
+            ocl::launch(q, shadow_trace_, "intersect.shadow", n, &profiler_, frame);
+            ocl::launch(q, shadow_resolve_, "shadow.resolve", n, &profiler_, frame);
+        }
     }
 
     // The frame's radiance into the film.

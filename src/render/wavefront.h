@@ -1,13 +1,19 @@
 // wavefront.h — the wavefront path tracer: device buffers, programs and the frame loop.
 //
 // One frame is one sample per pixel (DESIGN.md):
-//   generate ─► [ intersect.closest ─► queue.reset ─► shade ] × (depth + 1) ─► accumulate
+//   generate ─► [ intersect.closest ─► queue.reset ─► shade
+//                 (─► intersect.shadow ─► shadow.resolve, with NEE and b < depth) ]
+//               × (depth + 1) ─► accumulate
 // Bounce b = 0 traces the camera rays; shade at bounce b adds emission (or background)
 // and, while b < depth, scatters and pushes survivors into the other queue. So `depth` is
 // the number of bounces (scattering events) a path may make: depth 0 shows emitters and
 // background only, depth D gathers light that reached the camera after at most D bounces
 // (as pbrt's maxdepth). Queues are launched at capacity and read their length on the
-// device; the host never reads counts back inside a frame.
+// device; the host never reads counts back inside a frame. With NEE (--sampling nee|mis and
+// an emitter in the scene) shade pushes one shadow ray per light sample into the shadow
+// queue; intersect_any traces them and shadow_resolve adds the stored unoccluded
+// contribution to the pixel's radiance. Russian roulette (rr_depth) may end a path before
+// `depth`; with the default rr_depth 3 and depth 3 it never triggers.
 //
 // Programs and buffers are created once in the constructor; enqueue_frame() only sets
 // arguments and enqueues. Every launch is named and profiled (cl/profiler.h).
@@ -50,6 +56,11 @@ struct RenderSettings {
     bool jitter = true;        // random position inside each pixel (false: pixel centres)
     bool variance = false;     // also keep the per-pixel sum of squares (moments())
     Traversal traversal = Traversal::Stackless;
+    // Estimator (--sampling, --glossy, --rr-depth): defaults are the best strategy.
+    Sampling sampling = Sampling::Mis;
+    GlossyModel glossy = GlossyModel::Ggx;
+    bool sobol = true;   // --sampler sobol (the default), else the counter-based random numbers
+    int rr_depth = 3;  // Russian roulette from this bounce on (< 0: off); see kernels/shade.cl
 };
 
 struct SceneStats {
@@ -57,6 +68,7 @@ struct SceneStats {
     std::size_t vertices = 0;
     std::size_t materials = 0;
     std::size_t emissive_materials = 0;
+    std::size_t light_triangles = 0;  // entries of the NEE light table (0 without NEE)
     std::size_t bvh_nodes = 0;  // interior nodes of the flattened BVH
     int bvh_depth = 0;
     double bvh_build_ms = 0.0;
@@ -106,11 +118,17 @@ class Wavefront {
     float4 background_{};
     ocl::Program generate_prog_, intersect_prog_, shade_prog_, accumulate_prog_;
     ::cl::Kernel generate_, intersect_, reset_, shade_, accumulate_;
+    ::cl::Kernel shadow_trace_, shadow_resolve_;  // only with config_.nee()
     // Scene.
     bvh::DeviceBvh bvh_;
     ::cl::Buffer tris_, material_ids_, materials_;
+    // NEE light table (scene/upload.h LightTable); 16-byte placeholders without NEE.
+    ::cl::Buffer light_cdf_, light_prims_, light_pdf_area_;
     // Wavefront state: two ray/path queues with their lengths, hits, per-pixel radiance.
     ::cl::Buffer rays_[2], paths_[2], count_[2], hits_, radiance_;
+    // Shadow queue (rays, their pixels, length) and per-pixel unoccluded contributions;
+    // sized for one path per pixel with NEE, placeholders otherwise.
+    ::cl::Buffer shadow_rays_, shadow_pixels_, shadow_count_, shadow_contrib_;
     ::cl::Buffer film_, counters_, ray_total_;
     ::cl::Buffer film_sq_;  // sum of squares; allocated only with settings.variance
 };

@@ -133,4 +133,51 @@ Scene make_closed_box_furnace(float emission, float albedo) {
     return s;
 }
 
+Scene make_veach_plates() {
+    Scene s;
+    s.name = "veach-plates";
+    s.background = glm::vec3(0.0f);
+    const glm::vec3 ex(1, 0, 0), ey(0, 1, 0), ez(0, 0, 1);
+    s.camera.position = glm::vec3(0.0f, 2.0f, 7.0f);
+    s.camera.target = glm::vec3(0.0f, 0.6f, 0.0f);
+    s.camera.up = ey;
+    s.camera.vfov_deg = 35.0f;
+    s.camera.width = 768;
+    s.camera.height = 512;
+    auto add = [&](const Mesh& m, std::uint32_t mat) { s.add_mesh(m.positions, m.triangles, mat); };
+
+    // Floor: dark diffuse, facing up
+    Material floor_m;
+    floor_m.name = "floor";
+    floor_m.albedo = glm::vec3(0.2f);
+    add(make_quad({-10, -0.6f, -10}, 15.0f * ez, 20.0f * ex), s.add_material(floor_m));
+
+    // Plates: each tilted to mirror the point `aim` towards the camera
+    const glm::vec3 aim(0.0f, 3.0f, -3.0f);
+    const float alphas[4] = {0.30f, 0.15f, 0.07f, 0.02f};
+    for (int k = 0; k < 4; ++k) {
+        glm::vec3 c(0.0f, 0.35f * k, 1.6f - 1.0f * k);
+        glm::vec3 n = glm::normalize(glm::normalize(s.camera.position - c) + glm::normalize(aim - c));
+        glm::vec3 eu = 6.0f * ex, ev = 0.8f * glm::normalize(glm::cross(n, ex));
+        Material m;
+        m.name = "plate-" + std::to_string(k);
+        m.kind = MaterialKind::Glossy;
+        m.albedo = glm::vec3(0.7f);
+        m.exponent = 2.0f / (alphas[k] * alphas[k]) - 2.0f;
+        add(make_quad(c - 0.5f * eu - 0.5f * ev, eu, ev), s.add_material(m));
+    }
+
+    // Lights: equal power, radiance ∝ 1 / r²
+    const float radii[4] = {0.03f, 0.1f, 0.3f, 0.9f};
+    const glm::vec3 tint[4] = {{1.0f, 0.85f, 0.7f}, {0.7f, 1.0f, 0.8f}, {0.7f, 0.8f, 1.0f}, {1.0f, 0.7f, 0.9f}};
+    for (int k = 0; k < 4; ++k) {
+        Material m;
+        m.name = "light-" + std::to_string(k);
+        m.albedo = glm::vec3(0.0f);
+        m.emission = tint[k] * (0.2f / (radii[k] * radii[k]));
+        add(make_uv_sphere({-2.25f + 1.5f * k, 3.0f, -3.0f}, radii[k], 12, 24), s.add_material(m));
+    }
+    return s;
+}
+
 } // namespace wp

@@ -157,8 +157,18 @@ Material convert_material(const tinyobj::material_t& mt, const std::string& file
         return r;
     };
 
-    // Kind and albedo: mirror, glossy, else diffuse
-    if (reflect && kd_zero && ks_some && (ns >= 1000.0f || ks_perfect)) {
+    // Kind and albedo: glass, mirror, glossy, else diffuse
+    const bool glass = mt.illum == 4 || mt.illum == 6 || mt.illum == 7;
+    if (glass) {
+        m.kind = MaterialKind::Glass;
+        glm::vec3 tf = vec3(mt.transmittance);
+        m.albedo = max3(mt.transmittance) > 0.0f ? clamped("Tf", tf) : glm::vec3(1.0f);
+        const float ior = float(mt.ior);
+        m.ior = std::isfinite(ior) && ior > 0.0f && ior != 1.0f ? ior : 1.5f;
+        if (!(std::isfinite(ior) && ior > 0.0f && ior != 1.0f))
+            warnings.push_back(fmt::format("{}: material '{}': glass without a usable Ni ({}); "
+                                           "using 1.5", file, mt.name, ior));
+    } else if (reflect && kd_zero && ks_some && (ns >= 1000.0f || ks_perfect)) {
         m.kind = MaterialKind::Mirror;
         m.albedo = clamped("Ks", vec3(mt.specular));
     } else if ((mt.illum == 2 || reflect) && kd_zero && ks_some && std::isfinite(ns)) {
@@ -183,7 +193,7 @@ Material convert_material(const tinyobj::material_t& mt, const std::string& file
                                        mt.name, e.x, e.y, e.z));
 
     // What is not modelled
-    if (mt.illum == 4 || mt.illum == 6 || mt.illum == 7 || mt.illum == 9)
+    if (mt.illum == 9)
         warnings.push_back(fmt::format(
             "{}: material '{}': illum {} (transparency/refraction) is not supported; rendered as "
             "{}",

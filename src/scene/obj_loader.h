@@ -7,13 +7,16 @@
 // Material mapping (MTL → wavepath), first rule that matches wins; "≈ 0" means every channel
 // <= 0.001, and Ks "perfect" means every channel >= 0.999:
 //   Ke                                                   → emission (any kind; negative → 0)
+//   illum 4, 6 or 7                                      → Glass, η = Ni (1.5 with a warning
+//                                                          when Ni is missing, ≤ 0 or 1),
+//                                                          albedo = Tf (1 when Tf ≈ 0)
 //   illum 3 or 5, Kd ≈ 0, Ks > 0, and Ns >= 1000 or Ks perfect
 //                                                        → Mirror, albedo = Ks
 //   illum 2, 3 or 5, Kd ≈ 0, Ks > 0 (Ns finite)          → Glossy, albedo = Ks, exponent = Ns
 //   anything else                                        → Diffuse, albedo = Kd
 // Albedos are clamped to [0, 1]. A material with both Kd and Ks that asks for reflection
 // (illum 3 or 5) becomes Diffuse with a warning (wavepath has no layered material);
-// transparency/refraction (illum 4, 6, 7, 9) and texture maps are ignored with a warning.
+// illum 9 (glass without refraction) and texture maps are ignored with a warning.
 // Triangles without a material (no `usemtl`, an unknown name, a missing .mtl) get the
 // mid-grey (0.5) diffuse material "default", with ONE warning for the whole file. Only the
 // materials that some triangle uses are kept.

@@ -9,6 +9,7 @@ const char* to_string(MaterialKind k) {
     case MaterialKind::Diffuse: return "diffuse";
     case MaterialKind::Mirror: return "mirror";
     case MaterialKind::Glossy: return "glossy";
+    case MaterialKind::Glass: return "glass";
     }
     return "unknown";
 }

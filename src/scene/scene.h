@@ -19,6 +19,7 @@ enum class MaterialKind : std::uint32_t {
     Diffuse = 0,  // Lambertian, albedo
     Mirror = 1,   // perfect specular reflection, tinted by albedo
     Glossy = 2,   // the original "weighted" lobe around the mirror direction (Phong exponent)
+    Glass = 3,    // smooth dielectric: exact Fresnel reflection and refraction, tinted by albedo
 };
 
 const char* to_string(MaterialKind k);
@@ -29,6 +30,7 @@ struct Material {
     glm::vec3 albedo{0.8f};    // reflectance in [0, 1] per channel
     glm::vec3 emission{0.0f};  // emitted radiance (W sr^-1 m^-2), front side only
     float exponent = 100.0f;   // glossy lobe sharpness (Phong exponent), Glossy only
+    float ior = 1.5f;          // index of refraction inside / outside (front side), Glass only
     bool emissive() const { return emission.x > 0.0f || emission.y > 0.0f || emission.z > 0.0f; }
 };
 

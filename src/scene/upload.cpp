@@ -36,10 +36,40 @@ SceneUpload upload_scene(const Scene& scene) {
         d.albedo = row(m.albedo, m.kind == MaterialKind::Glossy ? m.exponent : 0.0f);
         d.emission = row(m.emission);
         d.kind = static_cast<int>(m.kind);
+        d.ior = m.kind == MaterialKind::Glass ? m.ior : 0.0f;
         up.materials.push_back(d);
     }
     up.background = row(scene.background);
     return up;
+}
+
+LightTable build_light_table(const Scene& scene) {
+    LightTable lt;
+    lt.pdf_area.assign(scene.triangles.size(), 0.0f);
+    std::vector<double> power, area;
+    for (std::size_t i = 0; i < scene.triangles.size(); ++i) {
+        const Material& m = scene.materials.at(scene.material_ids.at(i));
+        if (!m.emissive()) continue;
+        const glm::uvec3& t = scene.triangles[i];
+        glm::dvec3 a(scene.positions.at(t.x)), b(scene.positions.at(t.y)), c(scene.positions.at(t.z));
+        double ar = 0.5 * glm::length(glm::cross(b - a, c - a));
+        double lum = 0.2126 * m.emission.x + 0.7152 * m.emission.y + 0.0722 * m.emission.z;
+        if (!(ar > 0.0) || !(lum > 0.0) || !std::isfinite(ar * lum)) continue;
+        lt.prims.push_back(static_cast<int>(i));
+        power.push_back(ar * lum);
+        area.push_back(ar);
+        lt.total_power += ar * lum;
+    }
+    double run = 0.0;
+    for (std::size_t k = 0; k < power.size(); ++k) {
+        run += power[k];
+        lt.cdf.push_back(k + 1 == power.size() ? 1.0f : static_cast<float>(run / lt.total_power));
+    }
+    for (std::size_t k = 0; k < lt.prims.size(); ++k) {
+        float p = lt.cdf[k] - (k > 0 ? lt.cdf[k - 1] : 0.0f);
+        lt.pdf_area[lt.prims[k]] = static_cast<float>(p / area[k]);
+    }
+    return lt;
 }
 
 CameraData upload_camera(const Camera& camera, int width, int height, bool jitter) {

@@ -19,6 +19,21 @@ struct SceneUpload {
     float4 background{0.0f, 0.0f, 0.0f, 0.0f};  // xyz: radiance of escaped rays
 };
 
+// The light table of next-event estimation (kernels/shared/lights.h): every emissive
+// triangle with positive area, chosen with probability proportional to its emitted power
+// area × luminance(Le) (Rec. 709 luminance; one-sided emitters, so the factor π cancels).
+struct LightTable {
+    std::vector<float> cdf;       // inclusive cumulative probabilities, last exactly 1
+    std::vector<int> prims;       // triangle (scene order) of each light
+    std::vector<float> pdf_area;  // per scene triangle: P(choose it) / its area; 0 if no light
+    double total_power = 0.0;     // sum of area × luminance, for reports
+    std::size_t size() const { return prims.size(); }
+};
+
+// Empty (no lights) when nothing emits. The probability of light k is taken as the float
+// difference cdf[k] - cdf[k - 1], which is exactly what the device's binary search draws.
+LightTable build_light_table(const Scene& scene);
+
 // Throws wp::Error when a triangle's material id or vertex index is out of range.
 SceneUpload upload_scene(const Scene& scene);
 

@@ -1,0 +1,42 @@
+// test_sampling.cl — probe kernels for the statistical tests of tests/test_sampling.cpp:
+// they call the shared sampling code exactly as shade.cl does and write what it drew.
+// Built with the options of the strategy under test (e.g. -D WP_SAMPLING=3
+// -D WP_GLOSSY_MODEL=1). Random numbers: wp_rng4(seed, i, 0, 0, group) for item i.
+#include "shared/bsdf.h"
+#include "shared/lights.h"
+#include "shared/rng.h"
+
+// probe_bsdf_sample
+// reads   m, the arriving direction d and normal ns (xyz, unit), front (glass: from
+//         outside), seed
+// writes  out[i] = (wo, pdf) for i < n, or (0, 0, 0, -1) when the sample is absorbed
+__kernel void probe_bsdf_sample(MaterialData m, float4 d, float4 ns, int front, uint seed,
+                                int n, __global float4* out) {
+    int i = wp_global_id();
+    if (i >= n) return;
+    float4 u = wp_rng4(seed, (uint)i, 0u, 0u, WP_RNG_BSDF);
+    float3 wo, weight;
+    float pdf;
+    int specular;
+    if (wp_bsdf_sample_pdf(m, wp_xyz(d), wp_xyz(ns), front, u, &wo, &weight, &pdf, &specular))
+        out[i] = wp_float4(wo, pdf);
+    else
+        out[i] = make_float4(0.0f, 0.0f, 0.0f, -1.0f);
+}
+
+// probe_light_sample
+// reads   tris (scene order), the light table (lights.h), seed
+// writes  light[i] = the chosen light index k, point[i] = (b1, b2, pdf_area, 0): the
+//         barycentrics of the point on triangle light_prims[k], for i < n
+__kernel void probe_light_sample(__global const float* light_cdf, __global const int* light_prims,
+                                 __global const float* light_pdf_area, int light_count,
+                                 uint seed, int n, __global int* light,
+                                 __global float4* point) {
+    int i = wp_global_id();
+    if (i >= n) return;
+    float4 ul = wp_rng4(seed, (uint)i, 0u, 0u, WP_RNG_LIGHT);
+    int k = wp_light_pick(light_cdf, light_count, ul.z);
+    float2 b = wp_sample_triangle_barycentric(ul.x, ul.y);
+    light[i] = k;
+    point[i] = make_float4(b.x, b.y, light_pdf_area[light_prims[k]], 0.0f);
+}
