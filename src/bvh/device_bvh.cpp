@@ -4,25 +4,12 @@
 
 namespace wp::bvh {
 
-namespace {
-
-template <typename T>
-::cl::Buffer make_buffer(const ocl::Device& dev, const std::vector<T>& v, const char* what) {
-    std::size_t bytes = std::max<std::size_t>(v.size() * sizeof(T), sizeof(T));
-    dev.check_alloc(bytes, what);
-    ::cl::Buffer b(dev.context, CL_MEM_READ_ONLY, bytes);
-    if (!v.empty()) dev.queue.enqueueWriteBuffer(b, CL_TRUE, 0, v.size() * sizeof(T), v.data());
-    return b;
-}
-
-}  // namespace
-
 DeviceBvh DeviceBvh::upload(const ocl::Device& dev, const FlatBvh& flat) {
     DeviceBvh d;
-    d.nodes = make_buffer(dev, flat.nodes, "the BVH nodes");
-    d.links = make_buffer(dev, flat.links, "the BVH links");
-    d.triangles = make_buffer(dev, flat.triangles, "the triangles");
-    d.prim_ids = make_buffer(dev, flat.prim_ids, "the triangle ids");
+    d.nodes = ocl::upload_buffer(dev, flat.nodes, "the BVH nodes");
+    d.links = ocl::upload_buffer(dev, flat.links, "the BVH links");
+    d.triangles = ocl::upload_buffer(dev, flat.triangles, "the triangles");
+    d.prim_ids = ocl::upload_buffer(dev, flat.prim_ids, "the triangle ids");
     d.node_count = static_cast<int>(flat.nodes.size());
     d.triangle_count = static_cast<int>(flat.triangles.size());
     d.bytes = flat.nodes.size() * sizeof(BvhNode) + flat.links.size() * sizeof(BvhLinks) +
