@@ -8,6 +8,7 @@ packages=(
   pocl-opencl-icd ocl-icd-opencl-dev opencl-headers opencl-clhpp-headers clinfo
   libglm-dev libopenimageio-dev catch2 libtinyobjloader-dev
   nlohmann-json3-dev libcli11-dev libfmt-dev libembree-dev oclgrind
+  libassimp-dev libpugixml-dev libtinygltf-dev clang libclang-rt-14-dev
 )
 
 missing=()

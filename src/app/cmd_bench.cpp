@@ -26,7 +26,7 @@
 #include "bvh/flatten.h"
 #include "bvh/hard_cases.h"
 #include "scene/builtin.h"
-#include "scene/obj_loader.h"
+#include "scene/load.h"
 #include "scene/procedural.h"
 #include "util/atomic_file.h"
 #include "util/error.h"
@@ -81,7 +81,7 @@ BvhBuildResult build_bvh(const Scene& s, int repeats) {
 
 int run_intersect(const IntersectOptions& o) {
     // Scene and BVH.
-    Scene scene = o.scene.empty() ? make_cornell_box() : load_obj(o.scene);
+    Scene scene = o.scene.empty() ? make_cornell_box() : load_scene_file(o.scene);
     std::string scene_name = o.scene.empty() ? "built-in cornell-box" : o.scene;
     auto built = build_bvh(scene, o.builds);
     fmt::print("scene: {} ({} triangles), camera {}x{}\n", scene_name, scene.triangles.size(), scene.camera.width,

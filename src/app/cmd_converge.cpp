@@ -136,7 +136,7 @@ int run_converge(const ConvergeArgs& a) {
             if (configs[i].name == configs[j].name)
                 fail("--config name '{}' is used twice", configs[i].name);
     check_writable(a.csv, "--csv", false);
-    Scene scene = load_scene(a.scene);
+    Scene scene = load_scene(a.scene, a.quiet);
     std::vector<render::RenderSettings> settings;
     for (const auto& c : configs) settings.push_back(make_settings(c.args, scene));
 
@@ -280,7 +280,7 @@ Subcommand add_converge(CLI::App& app) {
         "seeds, record RMSE/relMSE/MAE against a reference at every power of two in spp and "
         "at the end (CSV), and print relMSE at equal time, efficiency and time to a target.");
     auto* c = s.app;
-    c->add_option("scene", args->scene, "Scene file (.obj); default: the built-in Cornell box");
+    c->add_option("scene", args->scene, kSceneArgHelp);
     c->add_option("--reference", args->reference,
                   "Reference EXR (e.g. from `render --spp 4096 --variance`); REF.var.exr next "
                   "to it is used to check the reference's own error. Default: render one here");

@@ -1,6 +1,6 @@
 // cmd_render.cpp — `wavepath render [SCENE]`: the wavefront path tracer on the command line.
 //
-// Loads the scene (the built-in Cornell box, or an OBJ/MTL file), checks every output path
+// Loads the scene (the built-in Cornell box, or a scene or mesh file), checks every output path
 // before any work, renders progressively (one sample per pixel per frame) until --spp or
 // --time, writes the image(s) atomically and prints the per-stage kernel profile.
 #include <cmath>
@@ -45,6 +45,8 @@ struct RenderArgs {
     std::string reference; // reference EXR to measure the error against
     bool quiet = false;
     bool verbose = false;
+    bool spp_given = false;   // --spp / --seed on the command line beat the scene file's
+    bool seed_given = false;
 };
 
 // How often the progress line's error against the reference is refreshed (film read-back).
@@ -83,11 +85,12 @@ int run_render(const RenderArgs& a) {
     }
 
     // 3. Scene and device.
-    Scene scene = load_scene(a.scene);
-    if (!a.quiet)
-        for (const auto& w : scene.warnings) fmt::print(stderr, "wavepath: warning: {}\n", w);
+    Scene scene = load_scene(a.scene, a.quiet);
     render::RenderSettings s = make_settings(a.config, scene);
-    s.seed = a.seed;
+    // The scene file's spp and seed, unless given on the command line.
+    const int spp = a.spp_given || !scene.render.spp ? a.spp : *scene.render.spp;
+    s.seed = a.seed_given || !scene.render.seed ? a.seed : *scene.render.seed;
+    if (spp < 1) fail("spp must be at least 1 (got {} from the scene file)", spp);
     s.variance = a.variance;
     // A reference of the wrong size is an error before any rendering.
     std::optional<render::Reference> ref;
@@ -103,9 +106,9 @@ int run_render(const RenderArgs& a) {
     }
 
     // 4. Render.
-    render::Progress progress(a.spp, a.time_s, !a.quiet);
+    render::Progress progress(spp, a.time_s, !a.quiet);
     render::LoopOptions lo;
-    lo.spp = a.spp;
+    lo.spp = spp;
     lo.time_limit_s = a.time_s;
     if (ref && !a.quiet) {
         // The error in the progress line, from a film read every few seconds only.
@@ -177,7 +180,7 @@ int run_render(const RenderArgs& a) {
                       {"bvh_nodes", st.bvh_nodes}, {"bvh_depth", st.bvh_depth},
                       {"bvh_build_ms", st.bvh_build_ms}, {"upload_ms", st.upload_ms},
                       {"program_ms", st.program_ms}};
-        j["settings"] = {{"width", s.width}, {"height", s.height}, {"spp_requested", a.spp},
+        j["settings"] = {{"width", s.width}, {"height", s.height}, {"spp_requested", spp},
                          {"spp", res.frames}, {"depth", s.depth}, {"seed", s.seed},
                          {"traversal", render::traversal_name(s.traversal)},
                          {"sampling", render::sampling_name(s.sampling)},
@@ -214,19 +217,21 @@ Subcommand add_render(CLI::App& app) {
         "Cornell box at 800x600 and writes render.exr (linear float) and render.png (sRGB) in "
         "the current folder.");
     auto* c = s.app;
-    c->add_option("scene", args->scene,
-                  "Scene file: a Wavefront .obj (with its .mtl), or builtin:cornell-box (the "
-                  "default) or builtin:closed-box-furnace");
-    c->add_option("--spp", args->spp, "Samples per pixel (one per frame), >= 1")
-        ->capture_default_str();
+    c->add_option("scene", args->scene, kSceneArgHelp);
+    c->add_option("--spp", args->spp,
+                  "Samples per pixel (one per frame), >= 1 (beats the scene file's spp)")
+        ->capture_default_str()
+        ->each([a = args.get()](const std::string&) { a->spp_given = true; });
     c->add_option("--time", args->time_s,
                   "Stop after this many seconds even if --spp is not reached (the frame in "
                   "flight completes); 0 = no limit")
         ->capture_default_str();
     add_config_options(c, args->config);
     c->add_option("--seed", args->seed,
-                  "Random seed: the same seed on the same device gives a bit-identical image")
-        ->capture_default_str();
+                  "Random seed: the same seed on the same device gives a bit-identical image "
+                  "(beats the scene file's seed)")
+        ->capture_default_str()
+        ->each([a = args.get()](const std::string&) { a->seed_given = true; });
     c->add_option("-o,--output", args->output,
                   "Write only this image; format from the extension: .exr (linear float), "
                   ".png/.jpg (8-bit sRGB). Default: render.exr and render.png");

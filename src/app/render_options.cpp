@@ -7,8 +7,9 @@
 
 #include "image/image.h"
 #include "scene/builtin.h"
-#include "scene/obj_loader.h"
+#include "scene/load.h"
 #include "util/error.h"
+#include "util/timer.h"
 
 namespace wp::app {
 
@@ -17,8 +18,10 @@ namespace fs = std::filesystem;
 void add_config_options(CLI::App* c, ConfigArgs& a) {
     c->add_option("--depth", a.depth,
                   "Maximum number of bounces (scattering events) per path, >= 0: 0 shows only "
-                  "emitters and the background, D gathers light that bounced at most D times")
-        ->capture_default_str();
+                  "emitters and the background, D gathers light that bounced at most D times "
+                  "(beats the scene file's depth)")
+        ->capture_default_str()
+        ->each([&a](const std::string&) { a.depth_given = true; });
     c->add_option("--size", a.size,
                   "Image size WIDTHxHEIGHT in pixels (default: the scene's, 800x600)");
     c->add_option("--device", a.device,
@@ -73,7 +76,7 @@ render::RenderSettings make_settings(const ConfigArgs& a, const Scene& scene) {
         s.traversal = render::Traversal::Stack;
     else
         fail("--traversal '{}': expected stackless or stack", a.traversal);
-    s.depth = a.depth;
+    s.depth = a.depth_given || !scene.render.depth ? a.depth : *scene.render.depth;
     s.sampling = render::parse_sampling(a.sampling);
     s.glossy = render::parse_glossy(a.glossy);
     if (a.rr_depth < -1) fail("--rr-depth must be -1 (off) or >= 0 (got {})", a.rr_depth);
@@ -84,7 +87,14 @@ render::RenderSettings make_settings(const ConfigArgs& a, const Scene& scene) {
     return s;
 }
 
-Scene load_scene(const std::string& arg) {
+const char* const kSceneArgHelp =
+    "Scene: a wavepath scene file (.json), a Mitsuba 3 scene (.xml), a mesh file (.obj with its "
+    ".mtl, .gltf, .glb, .ply, .stl, .off, .3ds, .dae, .fbx), or builtin:cornell-box (the "
+    "default), builtin:closed-box-furnace, builtin:veach-plates";
+
+namespace {
+
+Scene load_any(const std::string& arg, bool quiet) {
     if (arg.empty() || arg == "builtin:cornell-box") return make_cornell_box();
     // The analytic furnace of the render tests: emission 0.5, albedo 0.6.
     if (arg == "builtin:closed-box-furnace") return make_closed_box_furnace(0.5f, 0.6f);
@@ -92,13 +102,19 @@ Scene load_scene(const std::string& arg) {
     if (arg.rfind("builtin:", 0) == 0)
         fail("scene '{}': unknown built-in scene (builtin:cornell-box, "
              "builtin:closed-box-furnace, builtin:veach-plates)", arg);
-    fs::path p(arg);
-    std::error_code ec;
-    if (!fs::exists(p, ec)) fail("scene file '{}' not found", arg);
-    std::string ext = p.extension().string();
-    for (auto& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
-    if (ext == ".obj") return load_obj(p);
-    fail("scene file '{}': unsupported format '{}' (supported: .obj)", arg, ext);
+    Timer t;
+    Scene scene = load_scene_file(arg);
+    if (!quiet) fmt::print(stderr, "wavepath: {}\n", describe_scene(scene, t.ms()));
+    return scene;
+}
+
+}  // namespace
+
+Scene load_scene(const std::string& arg, bool quiet) {
+    Scene scene = load_any(arg, quiet);
+    if (!quiet)
+        for (const auto& w : scene.warnings) fmt::print(stderr, "wavepath: warning: {}\n", w);
+    return scene;
 }
 
 void check_writable(const fs::path& path, const char* what, bool image) {

@@ -26,6 +26,7 @@ struct ConfigArgs {
     std::string glossy = "ggx";           // phong | ggx
     std::string sampler = "sobol";        // sobol | random
     int rr_depth = 3;                     // Russian roulette from this bounce on; -1 off
+    bool depth_given = false;             // --depth was on the command line (beats the scene's)
 };
 
 // Registers --depth, --size, --device, --traversal, --sampling, --glossy, --rr-depth on `c`.
@@ -37,8 +38,12 @@ render::RenderSettings make_settings(const ConfigArgs& a, const Scene& scene);
 
 // The built-in Cornell box for an empty argument or "builtin:cornell-box", the furnace box
 // of the render tests (emission 0.5, albedo 0.6) for "builtin:closed-box-furnace", the
-// MIS test scene for "builtin:veach-plates", else the scene file (.obj).
-Scene load_scene(const std::string& arg);
+// MIS test scene for "builtin:veach-plates", else the scene file (scene/load.h). Prints
+// the load report (scene/load.h: describe_scene) and the warnings to stderr unless quiet.
+Scene load_scene(const std::string& arg, bool quiet = false);
+
+// The one-line list of what `load_scene` accepts, for --help texts.
+extern const char* const kSceneArgHelp;
 
 // Fails unless `path` can be created: a supported extension (when an image), an existing,
 // writable folder, and not itself a folder.

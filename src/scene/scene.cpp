@@ -1,5 +1,7 @@
 #include "scene/scene.h"
 
+#include <cmath>
+
 #include "util/error.h"
 
 namespace wp {
@@ -37,6 +39,49 @@ std::size_t Scene::add_mesh(const std::vector<glm::vec3>& pos, const std::vector
 std::uint32_t Scene::add_material(const Material& m) {
     materials.push_back(m);
     return static_cast<std::uint32_t>(materials.size() - 1);
+}
+
+void Scene::append(const Scene& src, const glm::mat4& to_world,
+                   std::optional<std::uint32_t> material) {
+    if (material && *material >= materials.size())
+        fail("append: material {} does not exist", *material);
+    std::vector<std::uint32_t> remap;
+    if (!material) {
+        remap.reserve(src.materials.size());
+        for (const auto& m : src.materials) remap.push_back(add_material(m));
+    }
+    auto base = static_cast<std::uint32_t>(positions.size());
+    positions.reserve(positions.size() + src.positions.size());
+    for (const auto& p : src.positions) positions.push_back(glm::vec3(to_world * glm::vec4(p, 1.0f)));
+    bool mirror = glm::determinant(glm::mat3(to_world)) < 0.0f;
+    triangles.reserve(triangles.size() + src.triangles.size());
+    for (std::size_t i = 0; i < src.triangles.size(); ++i) {
+        glm::uvec3 t = src.triangles[i] + glm::uvec3(base);
+        if (mirror) std::swap(t.y, t.z);
+        triangles.push_back(t);
+        material_ids.push_back(material ? *material : remap.at(src.material_ids[i]));
+    }
+    warnings.insert(warnings.end(), src.warnings.begin(), src.warnings.end());
+}
+
+Camera camera_from_matrix(const glm::mat4& m, float vfov_deg, int width, int height) {
+    Camera c;
+    glm::vec3 dir = glm::vec3(m[2]);
+    glm::vec3 up = glm::vec3(m[1]);
+    c.position = glm::vec3(m[3]);
+    float len = glm::length(dir);
+    if (!(len > 0.0f) || !std::isfinite(len)) fail("camera matrix has no viewing direction");
+    c.target = c.position + dir / len;
+    c.up = up;
+    c.vfov_deg = vfov_deg;
+    c.width = width;
+    c.height = height;
+    return c;
+}
+
+float vfov_from_hfov(float hfov_deg, int width, int height) {
+    double t = std::tan(double(hfov_deg) * 0.5 * M_PI / 180.0) * double(height) / double(width);
+    return static_cast<float>(2.0 * std::atan(t) * 180.0 / M_PI);
 }
 
 }  // namespace wp

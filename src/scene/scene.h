@@ -6,6 +6,7 @@
 #pragma once
 
 #include <cstdint>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -43,6 +44,14 @@ struct Camera {
     int height = 600;
 };
 
+// Render settings a scene file may carry (JSON "render", Mitsuba integrator/sampler);
+// command-line options override them; unset ones fall back to the program's defaults.
+struct RenderDefaults {
+    std::optional<int> spp;
+    std::optional<int> depth;  // bounces, as --depth
+    std::optional<std::uint32_t> seed;
+};
+
 struct Scene {
     std::string name;                   // for reports: file name or "cornell-box"
     std::vector<glm::vec3> positions;   // vertex positions (world units)
@@ -51,6 +60,7 @@ struct Scene {
     std::vector<Material> materials;
     Camera camera;
     glm::vec3 background{0.0f};  // radiance of rays that leave the scene
+    RenderDefaults render;       // settings from the scene file, if any
     // Non-fatal problems met while building or loading the scene (e.g. triangles without a
     // material), one line each, for the caller to print; empty when all went well.
     std::vector<std::string> warnings;
@@ -61,6 +71,20 @@ struct Scene {
     std::size_t add_mesh(const std::vector<glm::vec3>& pos, const std::vector<glm::uvec3>& tris,
                          std::uint32_t material);
     std::uint32_t add_material(const Material& m);
+    // Appends every triangle of `src` with its positions transformed as points by
+    // `to_world` (a mirroring transform also reverses the winding, so the front stays the
+    // front). Materials: `material` when given, else src's own materials (appended, ids
+    // remapped). src's warnings are appended too; its camera and background are ignored.
+    void append(const Scene& src, const glm::mat4& to_world,
+                std::optional<std::uint32_t> material = std::nullopt);
 };
+
+// Camera from a camera-to-world matrix whose columns are the camera's axes: column 2 the
+// viewing direction, column 1 up, column 3 the position (wavepath's and Mitsuba's
+// convention; Mitsuba's column 0 points to the image's left, which a look-at camera implies).
+Camera camera_from_matrix(const glm::mat4& to_world, float vfov_deg, int width, int height);
+
+// The vertical field of view for a horizontal one on a width x height film.
+float vfov_from_hfov(float hfov_deg, int width, int height);
 
 }  // namespace wp

@@ -1,0 +1,11 @@
+#include "scene/assimp_loader.h"
+
+#include "util/error.h"
+
+namespace wp {
+
+Scene load_assimp(const std::filesystem::path& path) {
+    fail("'{}': this format is not supported yet", path.string());
+}
+
+}  // namespace wp

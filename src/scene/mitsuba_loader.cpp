@@ -1,0 +1,11 @@
+#include "scene/mitsuba_loader.h"
+
+#include "util/error.h"
+
+namespace wp {
+
+Scene load_mitsuba(const std::filesystem::path& path) {
+    fail("'{}': this format is not supported yet", path.string());
+}
+
+}  // namespace wp
