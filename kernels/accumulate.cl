@@ -18,6 +18,9 @@ __kernel void accumulate_film(__global const float4* radiance, int pixel_count,
     int p = wp_global_id();
     if (p >= pixel_count) return;
     float3 x = wp_xyz(radiance[p]);
+#if WP_INJECT_NAN
+    if (wp_inject_here(WP_INJECT_ACCUMULATE, p)) x.x = wp_quiet_nan();
+#endif
     if (!wp_all_finite3(x)) {
         atomic_inc(&counters[WP_COUNTER_ACCUMULATE_NONFINITE]);
         return;
@@ -31,6 +34,9 @@ __kernel void accumulate_film_variance(__global const float4* radiance, int pixe
     int p = wp_global_id();
     if (p >= pixel_count) return;
     float3 x = wp_xyz(radiance[p]);
+#if WP_INJECT_NAN
+    if (wp_inject_here(WP_INJECT_ACCUMULATE, p)) x.x = wp_quiet_nan();
+#endif
     if (!wp_all_finite3(x)) {
         atomic_inc(&counters[WP_COUNTER_ACCUMULATE_NONFINITE]);
         return;

@@ -19,13 +19,17 @@ __kernel void generate_camera(CameraData camera, uint seed, uint sample,
     int n = camera.width * camera.height;
     if (p >= n) return;
     if (p == 0) queue_count[0] = n;
-    int x = p % camera.width, y = p / camera.width;
+    // (no div/rem pair: LLVM fuses it behind a `freeze`, which Oclgrind cannot check)
+    int y = p / camera.width, x = p - y * camera.width;
 
     // Position inside the pixel: random with jitter, else its centre.
     float4 u = wp_rng4(seed, (uint)p, sample, 0u, WP_RNG_CAMERA);
     float jx = camera.jitter ? u.x : 0.5f, jy = camera.jitter ? u.y : 0.5f;
     float3 d = wp_camera_direction(camera, (float)x + jx, (float)y + jy);
 
+#if WP_INJECT_NAN
+    if (wp_inject_here(WP_INJECT_GENERATE, p)) d.x = wp_quiet_nan();
+#endif
     // A NaN/Inf direction (degenerate camera) becomes a ray that misses everything.
     float tmax = FLT_MAX;
     if (!wp_all_finite3(d)) {

@@ -67,6 +67,14 @@ static int wp_shade_path(Ray ray, PathState path, Hit hit, __global const Triang
     float3 beta = wp_xyz(path.throughput);
     float3 d = wp_xyz(ray.dir);
     *shadow = 0;
+#if WP_INJECT_NAN
+    if (bounce == 0 && wp_inject_here(WP_INJECT_SHADE, path.pixel)) beta.x = wp_quiet_nan();
+#endif
+    // Entry guard: a path whose throughput is not finite ends here, counted.
+    if (!wp_all_finite3(beta)) {
+        atomic_inc(&counters[WP_COUNTER_SHADE_NONFINITE]);
+        return 0;
+    }
 
     // Escaped: the constant background.
     if (hit.prim < 0) {
@@ -107,9 +115,10 @@ static int wp_shade_path(Ray ray, PathState path, Hit hit, __global const Triang
 
     float3 ns = front ? n : -n;
     float3 dn = normalize(d);
-    float b0 = 1.0f - hit.u - hit.v;
-    float3 p = v0 * b0 + v1 * hit.u + v2 * hit.v;
-    float3 org = wp_offset_ray_origin(p, ns);
+    float3 perr;
+    float3 p = wp_hit_point(v0, v1, v2, hit.u, hit.v, &perr);
+    float tri_offset = wp_triangle_offset(v0, v1, v2);
+    float3 org = wp_offset_ray_origin(p, perr, ns, tri_offset);
 
 #if WP_HAVE_NEE
     // Next-event estimation: a point on a light chosen by power; the shadow ray is traced
@@ -122,7 +131,8 @@ static int wp_shade_path(Ray ray, PathState path, Hit hit, __global const Triang
         float3 l0 = wp_xyz(lt.v0), l1 = wp_xyz(lt.v1), l2 = wp_xyz(lt.v2);
         float3 ln = normalize(cross(l1 - l0, l2 - l0));
         float2 bl = wp_sample_triangle_barycentric(ul.x, ul.y);
-        float3 y = l0 * (1.0f - bl.x - bl.y) + l1 * bl.x + l2 * bl.y;
+        float3 yerr;
+        float3 y = wp_hit_point(l0, l1, l2, bl.x, bl.y, &yerr);
         float3 to = y - p;
         float dist2 = dot(to, to);
         float3 wi = to * (1.0f / sqrt(dist2));
@@ -142,7 +152,7 @@ static int wp_shade_path(Ray ray, PathState path, Hit hit, __global const Triang
             } else if (wp_max_component(c) > 0.0f) {
                 // Segment from the offset origin to the light point offset to its front:
                 // hits need 0 < t < 1.
-                float3 target = wp_offset_ray_origin(y, ln);
+                float3 target = wp_offset_ray_origin(y, yerr, ln, wp_triangle_offset(l0, l1, l2));
                 float3 sd = target - org;
                 shadow_ray->org = make_float4(org.x, org.y, org.z, 0.0f);
                 shadow_ray->dir = make_float4(sd.x, sd.y, sd.z, 1.0f);
@@ -178,7 +188,7 @@ static int wp_shade_path(Ray ray, PathState path, Hit hit, __global const Triang
 #endif
 
     // The continued path, from a robustly offset origin.
-    float3 org_next = dot(wo, ns) > 0.0f ? org : wp_offset_ray_origin(p, -ns);
+    float3 org_next = dot(wo, ns) > 0.0f ? org : wp_offset_ray_origin(p, perr, -ns, tri_offset);
     next_ray->org = make_float4(org_next.x, org_next.y, org_next.z, 0.0f);
     next_ray->dir = make_float4(wo.x, wo.y, wo.z, FLT_MAX);
     next_path->throughput = wp_float4(beta, 0.0f);

@@ -97,7 +97,8 @@ TEST_CASE("render CLI: an unwritable output path fails before rendering", "[rend
 
 TEST_CASE("render CLI: invalid options are rejected with a message", "[render][cli]") {
     TempDir d;
-    for (const char* args : {"--spp 0", "--depth -1", "--size 0x10", "--size 64by48", "--time -2"}) {
+    for (const char* args : {"--spp 0", "--depth -1", "--size 0x10", "--size 64by48", "--time -2",
+                             "--debug-nan shader", "--debug-nan-period 0"}) {
         Run r = run_cli(d, args);
         INFO(args << ": " << r.err);
         CHECK(r.status != 0);
@@ -134,4 +135,21 @@ TEST_CASE("render CLI: a small render writes only the -o file and the profile", 
     bool has_shadow = false;
     for (auto& s : j["stages"]) has_shadow |= s["name"] == "intersect.shadow";
     CHECK(has_shadow);
+}
+
+// Issue 5, case 8 through the CLI: --debug-nan injects NaN into every 7th pixel of the three
+// stages; the run succeeds, writes a finite image and reports each stage's count: 2 frames x
+// ceil(320 / 7) = 2 x 46 = 92 per stage, 276 in all.
+TEST_CASE("render CLI: --debug-nan reports the count caught by each stage", "[render][cli]") {
+    TempDir d;
+    Run r = run_cli(d, "--size 20x16 --spp 2 --debug-nan generate,shade,accumulate "
+                       "--debug-nan-period 7 -q -o out.exr --profile prof.json");
+    INFO(r.err);
+    REQUIRE(r.status == 0);
+    CHECK(r.err.find("276 NaN/Inf values caught and dropped (generate 92, shade 92, accumulate 92)") !=
+          std::string::npos);
+    auto j = nlohmann::json::parse(std::ifstream(d.path / "prof.json"));
+    CHECK(j["nonfinite"]["generate"] == 92);
+    CHECK(j["nonfinite"]["shade"] == 92);
+    CHECK(j["nonfinite"]["accumulate"] == 92);
 }

@@ -71,6 +71,18 @@ WP_FN FilmPixel wp_film_add_square(FilmPixel p, float3 x) {
 
 WP_FN int wp_all_finite3(float3 v) { return isfinite(v.x) && isfinite(v.y) && isfinite(v.z); }
 
+// Debug NaN injection (types.h, WP_INJECT_*): compiled only when WP_INJECT_NAN is set.
+#ifndef WP_INJECT_NAN
+#define WP_INJECT_NAN 0
+#endif
+#ifndef WP_INJECT_PERIOD
+#define WP_INJECT_PERIOD 97
+#endif
+WP_FN int wp_inject_here(int stage, int pixel) {
+    return (WP_INJECT_NAN & stage) != 0 && (uint)pixel % (uint)WP_INJECT_PERIOD == 0u;
+}
+WP_FN float wp_quiet_nan(void) { return as_float(0x7fc00000u); }
+
 WP_NAMESPACE_END
 
 #endif  // WP_FILM_H

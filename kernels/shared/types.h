@@ -207,6 +207,14 @@ typedef struct FilmPixel {
 #define WP_COUNTER_ACCUMULATE_NONFINITE 2  // NaN/Inf frame radiance (sample dropped)
 #define WP_COUNTER_COUNT 8
 
+// Debug NaN injection (render --debug-nan): stage bits of WP_INJECT_NAN. A stage with its
+// bit set replaces, for every pixel p with p % WP_INJECT_PERIOD == 0, the value its guard is
+// about to check by NaN: generate the camera direction, shade the throughput of the path
+// arriving at bounce 0, accumulate the frame radiance. Each guard must count every one.
+#define WP_INJECT_GENERATE 1
+#define WP_INJECT_SHADE 2
+#define WP_INJECT_ACCUMULATE 4
+
 WP_NAMESPACE_END
 
 #if defined(WP_HOST)

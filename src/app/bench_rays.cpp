@@ -2,7 +2,7 @@
 
 #include <cmath>
 
-#include "shared/offset.h"
+#include "bvh/hard_cases.h"
 #include "util/splitmix.h"
 
 namespace wp::app {
@@ -11,11 +11,6 @@ namespace {
 
 Ray ray(glm::vec3 o, glm::vec3 d, float tmax = FLT_MAX) {
     return Ray{{o.x, o.y, o.z, 0.0f}, {d.x, d.y, d.z, tmax}};
-}
-
-glm::vec3 offset_origin(glm::vec3 p, glm::vec3 n) {
-    float3 q = wp_offset_ray_origin(make_float3(p.x, p.y, p.z), make_float3(n.x, n.y, n.z));
-    return {q.x, q.y, q.z};
 }
 
 }  // namespace
@@ -62,10 +57,9 @@ RaySets make_ray_sets(const Scene& scene, const std::vector<Ray>& primary, const
         glm::vec3 o{r.org.x, r.org.y, r.org.z}, d{r.dir.x, r.dir.y, r.dir.z};
         const auto& t = scene.triangles[h.prim];
         glm::vec3 a = scene.positions[t.x], b = scene.positions[t.y], c = scene.positions[t.z];
-        glm::vec3 p = (1.0f - h.u - h.v) * a + h.u * b + h.v * c;
         glm::vec3 n = glm::normalize(glm::cross(b - a, c - a));
         if (glm::dot(n, d) > 0.0f) n = -n;  // the side the ray came from
-        glm::vec3 origin = offset_origin(p, n);
+        glm::vec3 origin = bvh::leave_surface(a, b, c, h.u, h.v, n);
         // Cosine-weighted direction about n (Malley's method).
         float u1 = rng.uniform(), u2 = rng.uniform();
         float rad = std::sqrt(u1), phi = 6.2831853f * u2;

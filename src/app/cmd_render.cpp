@@ -45,6 +45,8 @@ struct RenderArgs {
     std::string reference; // reference EXR to measure the error against
     bool quiet = false;
     bool verbose = false;
+    std::string debug_nan;     // comma list of stages to inject NaN into (debugging)
+    int debug_nan_period = 97;
     bool spp_given = false;   // --spp / --seed on the command line beat the scene file's
     bool seed_given = false;
 };
@@ -52,12 +54,32 @@ struct RenderArgs {
 // How often the progress line's error against the reference is refreshed (film read-back).
 constexpr double kReferenceInterval_s = 3.0;
 
+// "generate,shade,accumulate" -> WP_INJECT_* bits; "" -> 0.
+int parse_debug_nan(const std::string& list) {
+    int mask = 0;
+    std::size_t i = 0;
+    while (i < list.size()) {
+        std::size_t j = list.find(',', i);
+        if (j == std::string::npos) j = list.size();
+        std::string stage = list.substr(i, j - i);
+        if (stage == "generate") mask |= WP_INJECT_GENERATE;
+        else if (stage == "shade") mask |= WP_INJECT_SHADE;
+        else if (stage == "accumulate") mask |= WP_INJECT_ACCUMULATE;
+        else fail("--debug-nan: unknown stage '{}' (expected generate, shade, accumulate)", stage);
+        i = j + 1;
+    }
+    return mask;
+}
+
 int run_render(const RenderArgs& a) {
     // 1. Options.
     if (a.spp < 1) fail("--spp must be at least 1 (got {})", a.spp);
     if (a.config.depth < 0) fail("--depth must be at least 0 (got {})", a.config.depth);
     if (!(a.time_s >= 0.0) || !std::isfinite(a.time_s))
         fail("--time must be a number of seconds >= 0 (got {})", a.time_s);
+    if (a.debug_nan_period < 1)
+        fail("--debug-nan-period must be at least 1 (got {})", a.debug_nan_period);
+    parse_debug_nan(a.debug_nan);  // checked before any work
 
     // 2. Outputs: checked before any work, so a bad path fails in milliseconds.
     std::vector<fs::path> outputs;
@@ -90,6 +112,8 @@ int run_render(const RenderArgs& a) {
     // The scene file's spp and seed, unless given on the command line.
     const int spp = a.spp_given || !scene.render.spp ? a.spp : *scene.render.spp;
     s.seed = a.seed_given || !scene.render.seed ? a.seed : *scene.render.seed;
+    s.inject_nan = parse_debug_nan(a.debug_nan);
+    s.inject_period = a.debug_nan_period;
     if (spp < 1) fail("spp must be at least 1 (got {} from the scene file)", spp);
     s.variance = a.variance;
     // A reference of the wrong size is an error before any rendering.
@@ -250,6 +274,16 @@ Subcommand add_render(CLI::App& app) {
                   "RMSE, relMSE = mean over pixels and channels of (x-r)^2/(r^2+0.01), MAE at "
                   "the end, and relMSE in the progress line every few seconds. A REF.var.exr "
                   "next to it is used to check that the reference's own error is small");
+    c->add_option("--debug-nan", args->debug_nan,
+                  "Debugging the NaN/Inf guards: inject NaN into these stages (comma list of "
+                  "generate, shade, accumulate) for every pixel p with p % PERIOD == 0 in every "
+                  "frame; each stage's guard must catch and count every one (reported at the "
+                  "end), and the image stays finite")
+        ->group("Debugging");
+    c->add_option("--debug-nan-period", args->debug_nan_period,
+                  "PERIOD of --debug-nan: every PERIOD-th pixel gets a NaN")
+        ->capture_default_str()
+        ->group("Debugging");
     c->add_flag("-q,--quiet", args->quiet,
                 "No progress line, summary or profile table (errors and NaN warnings only)");
     c->add_flag("-v,--verbose", args->verbose,

@@ -198,6 +198,14 @@ HardCount HardProbe::watertight(const WatertightCase& c, std::uint64_t rays, Tra
     return r;
 }
 
+glm::vec3 leave_surface(glm::vec3 v0, glm::vec3 v1, glm::vec3 v2, float u, float v, glm::vec3 n) {
+    auto f3 = [](glm::vec3 a) { return make_float3(a.x, a.y, a.z); };
+    float3 err;
+    float3 p = wp_hit_point(f3(v0), f3(v1), f3(v2), u, v, &err);
+    float3 q = wp_offset_ray_origin(p, err, f3(n), wp_triangle_offset(f3(v0), f3(v1), f3(v2)));
+    return {q.x, q.y, q.z};
+}
+
 std::vector<Ray> camera_rays(glm::vec3 eye, glm::vec3 target, glm::vec3 up_hint, float vfov_deg, int w, int h) {
     glm::vec3 fwd = glm::normalize(target - eye);
     glm::vec3 right = glm::normalize(glm::cross(fwd, up_hint));
@@ -246,13 +254,12 @@ SelfHitCount self_intersections(const ocl::Device& dev, BatchTracer& tracer, con
         ++out.primary_hits;
         const auto& t = m.triangles[h.prim];
         glm::vec3 v0 = m.positions[t.x], v1 = m.positions[t.y], v2 = m.positions[t.z];
-        glm::vec3 p = (1.0f - h.u - h.v) * v0 + h.u * v1 + h.v * v2;
+        glm::vec3 p = (v0 + (v1 - v0) * h.u) + (v2 - v0) * h.v;  // as wp_hit_point
         glm::dvec3 nd = glm::cross(glm::dvec3(v1) - glm::dvec3(v0), glm::dvec3(v2) - glm::dvec3(v0));
         glm::vec3 n = glm::vec3(glm::normalize(nd));
         glm::vec3 d = glm::normalize(glm::vec3(prim[i].dir.x, prim[i].dir.y, prim[i].dir.z));
         if (glm::dot(n, d) > 0.0f) n = -n;  // the side the ray came from
-        float3 q = wp_offset_ray_origin(make_float3(p.x, p.y, p.z), make_float3(n.x, n.y, n.z));
-        glm::vec3 o{q.x, q.y, q.z};
+        glm::vec3 o = leave_surface(v0, v1, v2, h.u, h.v, n);
         out.max_offset = std::max(out.max_offset, glm::length(glm::dvec3(o) - glm::dvec3(p)));
         // Tangent frame.
         glm::vec3 a = std::fabs(n.x) > 0.5f ? glm::vec3(0, 1, 0) : glm::vec3(1, 0, 0);

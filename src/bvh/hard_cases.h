@@ -82,6 +82,10 @@ struct SelfHitCount {
 };
 
 // Pinhole primary rays through pixel centres (y up in the image, as the generate stage).
+// The origin of a secondary ray leaving triangle (v0, v1, v2) at barycentrics (u, v) on the
+// side of the unit normal n, exactly as the shade kernel computes it (shared/offset.h).
+glm::vec3 leave_surface(glm::vec3 v0, glm::vec3 v1, glm::vec3 v2, float u, float v, glm::vec3 n);
+
 std::vector<Ray> camera_rays(glm::vec3 eye, glm::vec3 target, glm::vec3 up, float vfov_deg, int w, int h);
 
 // The self-intersection count for `mesh` transformed by p -> scale * p + shift, with the

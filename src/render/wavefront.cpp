@@ -110,11 +110,16 @@ Wavefront::Wavefront(ocl::Device& dev, const Scene& scene, const RenderSettings&
 
     // Programs (disk-cached), one per stage file.
     Timer prog_timer;
-    generate_prog_ = ocl::Program::build(dev, "generate.cl",
-                                         fmt::format("-D WP_SAMPLER={}", int(config_.sobol)));
+    std::string inject;
+    if (settings.inject_nan != 0)
+        inject = fmt::format(" -D WP_INJECT_NAN={} -D WP_INJECT_PERIOD={}", settings.inject_nan,
+                             settings.inject_period);
+    generate_prog_ = ocl::Program::build(
+        dev, "generate.cl", fmt::format("-D WP_SAMPLER={}{}", int(config_.sobol), inject));
     intersect_prog_ = ocl::Program::build(dev, "intersect.cl");
+    options_ += inject;
     shade_prog_ = ocl::Program::build(dev, "shade.cl", options_);
-    accumulate_prog_ = ocl::Program::build(dev, "accumulate.cl");
+    accumulate_prog_ = ocl::Program::build(dev, "accumulate.cl", inject);
     stats_.program_ms = prog_timer.ms();
     generate_ = generate_prog_.kernel("generate_camera");
     intersect_ = intersect_prog_.kernel(settings.traversal == Traversal::Stack ? "intersect_closest_stack"

@@ -61,6 +61,10 @@ struct RenderSettings {
     GlossyModel glossy = GlossyModel::Ggx;
     bool sobol = true;   // --sampler sobol (the default), else the counter-based random numbers
     int rr_depth = 3;  // Russian roulette from this bounce on (< 0: off); see kernels/shade.cl
+    // Debug (render --debug-nan): WP_INJECT_* stage bits (kernels/shared/types.h) whose
+    // guards get a NaN for every pixel p with p % inject_period == 0; 0 compiles nothing.
+    int inject_nan = 0;
+    int inject_period = 97;
 };
 
 struct SceneStats {
