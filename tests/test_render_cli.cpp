@@ -5,8 +5,6 @@
 // file) is left behind.
 #include <catch2/catch.hpp>
 
-#include <sys/wait.h>
-
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
@@ -15,47 +13,17 @@
 
 #include <nlohmann/json.hpp>
 
+#include "temp_dir.h"
+
 using namespace std::string_literals;
 namespace fs = std::filesystem;
 
 namespace {
 
-struct Run {
-    int status = -1;
-    std::string err;
-};
+using wp::test::TempDir;
+using Run = wp::test::CliRun;
 
-struct TempDir {
-    fs::path path;
-    TempDir() {
-        static int k = 0;
-        path = fs::temp_directory_path() / ("wp-cli-test-" + std::to_string(::getpid()) + "-" + std::to_string(k++));
-        fs::remove_all(path);
-        fs::create_directories(path);
-    }
-    ~TempDir() { fs::remove_all(path); }
-    bool empty_of_images() const {
-        for (auto& e : fs::directory_iterator(path)) {
-            auto ext = e.path().extension();
-            if (ext == ".exr" || ext == ".png" || ext == ".jpg") return false;
-        }
-        return true;
-    }
-};
-
-Run run_cli(const TempDir& dir, const std::string& args) {
-    fs::path err = dir.path / "stderr.txt";
-    std::string cmd = "cd '" + dir.path.string() + "' && '" WP_CLI_PATH "' render " + args +
-                      " > /dev/null 2> '" + err.string() + "'";
-    int rc = std::system(cmd.c_str());
-    Run r;
-    r.status = WIFEXITED(rc) ? WEXITSTATUS(rc) : -1;
-    std::ifstream in(err);
-    std::stringstream ss;
-    ss << in.rdbuf();
-    r.err = ss.str();
-    return r;
-}
+Run run_cli(const TempDir& dir, const std::string& args) { return wp::test::run_render(dir.path, args); }
 
 }  // namespace
 

@@ -21,11 +21,14 @@
 #include "scene/procedural.h"
 #include "scene/validate.h"
 #include "util/error.h"
+#include "temp_dir.h"
 
 namespace fs = std::filesystem;
 using Catch::Matchers::Contains;
 
 namespace {
+
+using wp::test::TempDir;
 
 constexpr double kPi = std::numbers::pi;
 
@@ -118,25 +121,6 @@ template <typename F> std::string error_of(F&& f) {
 }
 
 // A fresh folder under the system temp directory, removed at the end of the test.
-struct TempDir {
-    fs::path path;
-    TempDir() {
-        static std::atomic<int> counter{0};
-        path = fs::temp_directory_path() /
-               fmt::format("wavepath-test-scene-{}-{}", ::getpid(), counter++);
-        fs::create_directories(path);
-    }
-    ~TempDir() {
-        std::error_code ec;
-        fs::remove_all(path, ec);
-    }
-    fs::path write(const std::string& name, const std::string& text) const {
-        fs::path p = path / name;
-        std::ofstream(p, std::ios::binary) << text;
-        return p;
-    }
-};
-
 const char* kCubeQuads = R"(# unit cube, quads, outward counter-clockwise
 v 0 0 0
 v 1 0 0
@@ -433,7 +417,7 @@ TEST_CASE("closed-box furnace: closed, inward, camera inside, one emissive mater
 
 // --- validate_scene ------------------------------------------------------------------------
 
-TEST_CASE("validate_scene names each defect", "[unit][scene]") {
+TEST_CASE("validate_scene names each defect", "[unit][scene][parser]") {
     auto good = [] {
         wp::Scene s;
         s.name = "t";
@@ -478,7 +462,7 @@ TEST_CASE("validate_scene names each defect", "[unit][scene]") {
 
 // --- OBJ loader ----------------------------------------------------------------------------
 
-TEST_CASE("load_obj: quads are triangulated into a closed cube", "[unit][scene]") {
+TEST_CASE("load_obj: quads are triangulated into a closed cube", "[unit][scene][parser]") {
     TempDir dir;
     wp::Scene s = wp::load_obj(dir.write("cube.obj", kCubeQuads));
     CHECK(s.name == "cube.obj");
@@ -503,7 +487,7 @@ TEST_CASE("load_obj: quads are triangulated into a closed cube", "[unit][scene]"
     CHECK(s.camera.position.z == Approx(0.5f + d));
 }
 
-TEST_CASE("load_obj: pentagons, negative indices, comments and CRLF", "[unit][scene]") {
+TEST_CASE("load_obj: pentagons, negative indices, comments and CRLF", "[unit][scene][parser]") {
     TempDir dir;
     const std::string text = "v 0 0 0\r\nv 1 0 0\r\nv 1 1 0\r\n"
                              "f -3 -2 -1 # the first triangle\r\n"
@@ -522,7 +506,7 @@ TEST_CASE("load_obj: pentagons, negative indices, comments and CRLF", "[unit][sc
         CHECK(normal_of(s.positions, t).z > 0.0);
 }
 
-TEST_CASE("load_obj: MTL material mapping of every kind", "[unit][scene]") {
+TEST_CASE("load_obj: MTL material mapping of every kind", "[unit][scene][parser]") {
     TempDir dir;
     dir.write("m.mtl", R"(newmtl Matte
 Kd 0.5 0.4 0.3
@@ -613,7 +597,7 @@ Kd 1 0 0
     CHECK(no_material == 1);
 }
 
-TEST_CASE("load_obj: the shipped Cornell box OBJ", "[unit][scene]") {
+TEST_CASE("load_obj: the shipped Cornell box OBJ", "[unit][scene][parser]") {
     const fs::path p = fs::path(WP_SHARED_SCENES) / "cornell-box" / "cornell-box.obj";
     if (!fs::exists(p)) {
         WARN("skipped: " << p << " not found");
@@ -639,7 +623,7 @@ TEST_CASE("load_obj: the shipped Cornell box OBJ", "[unit][scene]") {
     CHECK(b.lo.x == Approx(-1.0f));
 }
 
-TEST_CASE("load_obj: bad files give one clear error with file and line", "[unit][scene]") {
+TEST_CASE("load_obj: bad files give one clear error with file and line", "[unit][scene][parser]") {
     TempDir dir;
     // Face index beyond the vertex count, at line 5
     std::string msg = error_of([&] {

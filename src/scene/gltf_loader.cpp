@@ -1,11 +1,603 @@
 #include "scene/gltf_loader.h"
 
+#include <algorithm>
+#include <cctype>
+#include <cmath>
+#include <cstring>
+#include <fstream>
+#include <optional>
+
+#include <glm/gtc/matrix_transform.hpp>
+#include <glm/gtc/quaternion.hpp>
+#include <glm/gtc/type_ptr.hpp>
+// tinygltf is compiled here, in its own namespace, rather than called in Debian's
+// libtinygltf.so: libdraco.so.7 (linked through Assimp) exports an older tinygltf with a
+// different TinyGLTF layout, and the dynamic linker binds the shared library's entry points
+// to it (heap corruption). Renaming the namespace makes every symbol ours. Images are never
+// decoded (textures are ignored), so stb_image is left out.
+#define tinygltf wp_tinygltf
+#define TINYGLTF_IMPLEMENTATION
+#define TINYGLTF_NO_STB_IMAGE
+#define TINYGLTF_NO_STB_IMAGE_WRITE
+#define TINYGLTF_NO_EXTERNAL_IMAGE
+#include <tiny_gltf.h>
+
+#include "scene/validate.h"
 #include "util/error.h"
 
 namespace wp {
 
-Scene load_gltf(const std::filesystem::path& path) {
-    fail("'{}': this format is not supported yet", path.string());
+namespace {
+
+namespace fs = std::filesystem;
+
+constexpr std::uint64_t kMaxFileBytes = std::uint64_t(1) << 30;
+constexpr std::uint64_t kMaxTriangles = std::uint64_t(1) << 25;
+constexpr std::uint64_t kMaxVertices = std::uint64_t(1) << 27;
+constexpr int kMaxNodeDepth = 256;
+constexpr std::uint64_t kMaxNodeVisits = std::uint64_t(1) << 20;
+
+std::uint32_t read_u32(std::string_view b, std::size_t at) {
+    const auto* p = reinterpret_cast<const unsigned char*>(b.data() + at);
+    return std::uint32_t(p[0]) | (std::uint32_t(p[1]) << 8) | (std::uint32_t(p[2]) << 16) |
+           (std::uint32_t(p[3]) << 24);
+}
+
+// GLB container: 12-byte header (magic, version 2, total length), then chunks of
+// (length, type, data); the first must be JSON. Checked so a truncated file gets a clear
+// message before tinygltf sees it.
+void check_glb(std::string_view b, const std::string& file) {
+    if (b.size() < 12)
+        fail("{}: truncated: a GLB file needs a 12-byte header, the file has {} bytes", file,
+             b.size());
+    const std::uint32_t version = read_u32(b, 4), length = read_u32(b, 8);
+    if (version != 2) fail("{}: GLB version {} is not supported (only 2)", file, version);
+    if (length > b.size())
+        fail("{}: truncated: the GLB header says {} bytes, the file has {}", file, length, b.size());
+    if (length < b.size())
+        fail("{}: the GLB header says {} bytes, but the file has {} (extra data at byte {})", file,
+             length, b.size(), length);
+    std::size_t at = 12;
+    int chunk = 0;
+    while (at < length) {
+        if (length - at < 8)
+            fail("{}: truncated: chunk {} header at byte {} needs 8 bytes, {} remain", file, chunk,
+                 at, length - at);
+        const std::uint32_t clen = read_u32(b, at), type = read_u32(b, at + 4);
+        if (chunk == 0 && type != 0x4E4F534Au)
+            fail("{}: byte {}: the first GLB chunk is not JSON", file, at + 4);
+        if (clen > length - at - 8)
+            fail("{}: truncated: chunk {} ({}) at byte {} declares {} bytes, {} remain", file, chunk,
+                 type == 0x4E4F534Au ? "JSON" : type == 0x004E4942u ? "BIN" : "unknown", at, clen,
+                 length - at - 8);
+        at += 8 + std::size_t(clen);
+        ++chunk;
+    }
+    if (chunk == 0) fail("{}: truncated: the GLB file has no JSON chunk", file);
+}
+
+// File access for tinygltf: regular files only, size-capped, never written, no expansion.
+bool fs_exists(const std::string& name, void*) {
+    std::error_code ec;
+    return fs::is_regular_file(name, ec);
+}
+std::string fs_expand(const std::string& name, void*) { return name; }
+bool fs_read(std::vector<unsigned char>* out, std::string* err, const std::string& name, void*) {
+    std::error_code ec;
+    if (!fs::is_regular_file(name, ec)) {
+        if (err) *err += "'" + name + "' is not a regular file\n";
+        return false;
+    }
+    const auto size = fs::file_size(name, ec);
+    if (ec || size > kMaxFileBytes) {
+        if (err) *err += "'" + name + "' is unreadable or larger than 1 GiB\n";
+        return false;
+    }
+    std::ifstream in(name, std::ios::binary);
+    out->assign(size, 0);
+    if (size > 0) in.read(reinterpret_cast<char*>(out->data()), std::streamsize(size));
+    if (!in || std::uint64_t(in.gcount()) != size) {
+        if (err) *err += "cannot read '" + name + "'\n";
+        return false;
+    }
+    return true;
+}
+bool fs_write(std::string* err, const std::string&, const std::vector<unsigned char>&, void*) {
+    if (err) *err += "wavepath never writes files while loading glTF\n";
+    return false;
+}
+bool no_image(tinygltf::Image*, const int, std::string*, std::string*, int, int,
+              const unsigned char*, int, void*) {
+    return true;  // textures are ignored: images are not decoded
+}
+
+// tinygltf's messages as lines.
+std::vector<std::string> lines_of(const std::string& text) {
+    std::vector<std::string> out;
+    std::size_t i = 0;
+    while (i < text.size()) {
+        std::size_t j = text.find('\n', i);
+        if (j == std::string::npos) j = text.size();
+        std::string l = text.substr(i, j - i);
+        while (!l.empty() && std::isspace(static_cast<unsigned char>(l.back()))) l.pop_back();
+        if (!l.empty()) out.push_back(l);
+        i = j + 1;
+    }
+    return out;
+}
+
+bool finite(const glm::mat4& m) {
+    for (int c = 0; c < 4; ++c)
+        for (int r = 0; r < 4; ++r)
+            if (!std::isfinite(m[c][r])) return false;
+    return true;
+}
+
+// A node's local transform: `matrix` (column-major) or T × R × S.
+glm::mat4 local_transform(const tinygltf::Node& n, const std::string& file, int index) {
+    glm::mat4 m(1.0f);
+    if (n.matrix.size() == 16) {
+        for (int i = 0; i < 16; ++i) m[i / 4][i % 4] = float(n.matrix[i]);
+    } else {
+        if (!n.matrix.empty())
+            fail("{}: nodes[{}].matrix has {} numbers, expected 16", file, index, n.matrix.size());
+        glm::mat4 t(1.0f), r(1.0f), s(1.0f);
+        if (n.translation.size() == 3)
+            t = glm::translate(glm::mat4(1.0f), glm::vec3(float(n.translation[0]),
+                                                          float(n.translation[1]),
+                                                          float(n.translation[2])));
+        else if (!n.translation.empty())
+            fail("{}: nodes[{}].translation has {} numbers, expected 3", file, index,
+                 n.translation.size());
+        if (n.rotation.size() == 4) {
+            // glTF quaternions are (x, y, z, w); glm::quat's constructor takes (w, x, y, z)
+            glm::quat q(float(n.rotation[3]), float(n.rotation[0]), float(n.rotation[1]),
+                        float(n.rotation[2]));
+            const float len = glm::length(q);
+            if (!(len > 0.0f) || !std::isfinite(len))
+                fail("{}: nodes[{}].rotation is not a usable quaternion", file, index);
+            r = glm::mat4_cast(q / len);
+        } else if (!n.rotation.empty()) {
+            fail("{}: nodes[{}].rotation has {} numbers, expected 4", file, index, n.rotation.size());
+        }
+        if (n.scale.size() == 3)
+            s = glm::scale(glm::mat4(1.0f),
+                           glm::vec3(float(n.scale[0]), float(n.scale[1]), float(n.scale[2])));
+        else if (!n.scale.empty())
+            fail("{}: nodes[{}].scale has {} numbers, expected 3", file, index, n.scale.size());
+        m = t * r * s;
+    }
+    if (!finite(m)) fail("{}: nodes[{}] has a non-finite transform", file, index);
+    return m;
+}
+
+// One accessor's elements, bounds-checked: `at(i)` is the byte address of element i.
+struct View {
+    const unsigned char* base = nullptr;
+    std::size_t stride = 0;
+    std::size_t count = 0;
+    const unsigned char* at(std::size_t i) const { return base + i * stride; }
+};
+
+int component_size(int type) {
+    switch (type) {
+    case TINYGLTF_COMPONENT_TYPE_BYTE:
+    case TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE: return 1;
+    case TINYGLTF_COMPONENT_TYPE_SHORT:
+    case TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT: return 2;
+    case TINYGLTF_COMPONENT_TYPE_INT:
+    case TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT:
+    case TINYGLTF_COMPONENT_TYPE_FLOAT: return 4;
+    case TINYGLTF_COMPONENT_TYPE_DOUBLE: return 8;
+    }
+    return 0;
+}
+
+View accessor_view(const tinygltf::Model& model, int index, std::size_t elem_size,
+                   const std::string& file, const std::string& where) {
+    if (index < 0 || std::size_t(index) >= model.accessors.size())
+        fail("{}: {} refers to accessors[{}], but there are {} accessors", file, where, index,
+             model.accessors.size());
+    const tinygltf::Accessor& a = model.accessors[index];
+    if (a.bufferView < 0 || std::size_t(a.bufferView) >= model.bufferViews.size())
+        fail("{}: accessors[{}] refers to bufferViews[{}], but there are {}", file, index,
+             a.bufferView, model.bufferViews.size());
+    const tinygltf::BufferView& bv = model.bufferViews[a.bufferView];
+    if (bv.buffer < 0 || std::size_t(bv.buffer) >= model.buffers.size())
+        fail("{}: bufferViews[{}] refers to buffers[{}], but there are {}", file, a.bufferView,
+             bv.buffer, model.buffers.size());
+    const std::vector<unsigned char>& data = model.buffers[bv.buffer].data;
+    const std::uint64_t bv_off = bv.byteOffset, bv_len = bv.byteLength;
+    if (bv_off > data.size() || bv_len > data.size() - bv_off)
+        fail("{}: bufferViews[{}] (bytes {} to {}) lies outside buffers[{}] of {} bytes", file,
+             a.bufferView, bv_off, bv_off + bv_len, bv.buffer, data.size());
+    const std::uint64_t stride = bv.byteStride > 0 ? std::uint64_t(bv.byteStride) : elem_size;
+    if (bv.byteStride > 0 && stride < elem_size)
+        fail("{}: bufferViews[{}] byteStride {} is smaller than an element of accessors[{}] ({} "
+             "bytes)",
+             file, a.bufferView, stride, index, elem_size);
+    const std::uint64_t count = a.count, off = a.byteOffset;
+    if (count > kMaxVertices * 3)
+        fail("{}: accessors[{}] count {} exceeds the limit of {}", file, index, count,
+             kMaxVertices * 3);
+    if (count > 0 && (off > bv_len || (count - 1) * stride > bv_len - off ||
+                      elem_size > bv_len - off - (count - 1) * stride))
+        fail("{}: accessors[{}] ({} elements of {} bytes, stride {}, offset {}) reads past the "
+             "end of bufferViews[{}] ({} bytes)",
+             file, index, count, elem_size, stride, off, a.bufferView, bv_len);
+    return {data.data() + bv_off + off, std::size_t(stride), std::size_t(count)};
+}
+
+// Approximations met while mapping materials: one warning each per file.
+struct Notes {
+    int textures = 0, partial_metal = 0, alpha = 0, rough_glass = 0, clamped = 0;
+    int modes = 0, sparse = 0, quantized = 0, ortho = 0;
+};
+
+Material convert_material(const tinygltf::Material& gm, Notes& notes) {
+    Material m;
+    m.name = gm.name.empty() ? std::string("unnamed") : gm.name;
+    const auto& pbr = gm.pbrMetallicRoughness;
+    glm::vec3 base(1.0f);
+    float alpha = 1.0f;
+    if (pbr.baseColorFactor.size() == 4) {
+        base = glm::vec3(float(pbr.baseColorFactor[0]), float(pbr.baseColorFactor[1]),
+                         float(pbr.baseColorFactor[2]));
+        alpha = float(pbr.baseColorFactor[3]);
+    }
+    for (int k = 0; k < 3; ++k)
+        if (!std::isfinite(base[k])) base[k] = 0.5f;
+    const glm::vec3 clamped = glm::clamp(base, glm::vec3(0.0f), glm::vec3(1.0f));
+    if (clamped != base) ++notes.clamped;
+    base = clamped;
+    const float metallic = std::isfinite(pbr.metallicFactor) ? float(pbr.metallicFactor) : 1.0f;
+    float roughness = std::isfinite(pbr.roughnessFactor) ? float(pbr.roughnessFactor) : 1.0f;
+    roughness = std::clamp(roughness, 0.0f, 1.0f);
+
+    auto ext_number = [&](const char* ext, const char* key, double fallback) {
+        auto it = gm.extensions.find(ext);
+        if (it == gm.extensions.end() || !it->second.IsObject() || !it->second.Has(key))
+            return fallback;
+        const auto& v = it->second.Get(key);
+        if (!v.IsNumber()) return fallback;
+        double d = v.GetNumberAsDouble();
+        return std::isfinite(d) ? d : fallback;
+    };
+    const bool has_transmission = gm.extensions.count("KHR_materials_transmission") > 0;
+    const double transmission = ext_number("KHR_materials_transmission", "transmissionFactor", 0.0);
+
+    if (has_transmission && transmission >= 0.5) {
+        m.kind = MaterialKind::Glass;
+        m.albedo = base;
+        const double ior = ext_number("KHR_materials_ior", "ior", 1.5);
+        m.ior = ior > 0.0 && ior != 1.0 ? float(ior) : 1.5f;
+        if (roughness > 0.0f) ++notes.rough_glass;
+    } else if (metallic >= 0.5f) {
+        const float a = roughness * roughness;
+        m.albedo = base;
+        if (a < 0.001f) {
+            m.kind = MaterialKind::Mirror;
+        } else {
+            m.kind = MaterialKind::Glossy;
+            m.exponent = std::max(0.0f, 2.0f / (a * a) - 2.0f);
+        }
+    } else {
+        m.kind = MaterialKind::Diffuse;
+        m.albedo = base;
+    }
+    if (metallic > 0.0f && metallic < 1.0f) ++notes.partial_metal;
+
+    // Emission: emissiveFactor × KHR_materials_emissive_strength
+    if (gm.emissiveFactor.size() == 3) {
+        const float strength =
+            float(ext_number("KHR_materials_emissive_strength", "emissiveStrength", 1.0));
+        glm::vec3 e(float(gm.emissiveFactor[0]), float(gm.emissiveFactor[1]),
+                    float(gm.emissiveFactor[2]));
+        e *= strength;
+        for (int k = 0; k < 3; ++k)
+            if (!std::isfinite(e[k]) || e[k] < 0.0f) e[k] = 0.0f;
+        m.emission = e;
+    }
+
+    if (pbr.baseColorTexture.index >= 0 || pbr.metallicRoughnessTexture.index >= 0 ||
+        gm.normalTexture.index >= 0 || gm.occlusionTexture.index >= 0 ||
+        gm.emissiveTexture.index >= 0)
+        ++notes.textures;
+    if (gm.alphaMode == "BLEND" || gm.alphaMode == "MASK" || alpha < 1.0f) ++notes.alpha;
+    return m;
+}
+
+}  // namespace
+
+Scene parse_gltf(std::string_view bytes, const fs::path& origin) {
+    const std::string file = origin.string();
+    if (bytes.empty()) fail("{}: the file is empty", file);
+    if (bytes.size() > kMaxFileBytes)
+        fail("{}: the file is {} bytes, more than the limit of {}", file, bytes.size(), kMaxFileBytes);
+    const bool glb = bytes.size() >= 4 && bytes.substr(0, 4) == "glTF";
+    if (glb) check_glb(bytes, file);
+
+    // Parse with tinygltf: our file access, no image decoding
+    tinygltf::TinyGLTF loader;
+    tinygltf::FsCallbacks cb{&fs_exists, &fs_expand, &fs_read, &fs_write, nullptr};
+    loader.SetFsCallbacks(cb);
+    loader.SetImageLoader(&no_image, nullptr);
+    tinygltf::Model model;
+    std::string err, warn;
+    std::string base_dir = origin.parent_path().string();
+    if (base_dir.empty()) base_dir = ".";
+    bool ok = false;
+    try {
+        ok = glb ? loader.LoadBinaryFromMemory(&model, &err, &warn,
+                                               reinterpret_cast<const unsigned char*>(bytes.data()),
+                                               unsigned(bytes.size()), base_dir)
+                 : loader.LoadASCIIFromString(&model, &err, &warn, bytes.data(),
+                                              unsigned(bytes.size()), base_dir);
+    } catch (const std::exception& e) {
+        fail("{}: glTF: {}", file, e.what());
+    }
+    if (!ok) {
+        auto l = lines_of(err);
+        std::string msg;
+        for (std::size_t i = 0; i < l.size() && i < 3; ++i) msg += (i ? "; " : "") + l[i];
+        fail("{}: glTF: {}", file, msg.empty() ? std::string("tinygltf could not parse the file") : msg);
+    }
+
+    Scene scene;
+    scene.name = origin.filename().string();
+    if (scene.name.empty()) scene.name = file;
+    for (const auto& l : lines_of(warn)) scene.warnings.push_back(file + ": " + l);
+    for (const auto& l : lines_of(err)) scene.warnings.push_back(file + ": " + l);
+
+    // Root nodes: the default scene, else scene 0, else every node nobody lists as a child
+    std::vector<int> roots;
+    if (!model.scenes.empty()) {
+        int si = model.defaultScene;
+        if (si < 0 || std::size_t(si) >= model.scenes.size()) si = 0;
+        roots = model.scenes[si].nodes;
+    } else {
+        std::vector<char> is_child(model.nodes.size(), 0);
+        for (const auto& n : model.nodes)
+            for (int c : n.children)
+                if (c >= 0 && std::size_t(c) < model.nodes.size()) is_child[c] = 1;
+        for (std::size_t i = 0; i < model.nodes.size(); ++i)
+            if (!is_child[i]) roots.push_back(int(i));
+    }
+
+    Notes notes;
+    std::vector<std::uint32_t> mat_ids(model.materials.size(), ~0u);
+    std::uint32_t default_id = ~0u;
+    auto material_for = [&](int index) -> std::uint32_t {
+        if (index >= 0 && std::size_t(index) < model.materials.size()) {
+            if (mat_ids[index] == ~0u)
+                mat_ids[index] = scene.add_material(convert_material(model.materials[index], notes));
+            return mat_ids[index];
+        }
+        if (index >= 0)
+            fail("{}: a primitive refers to materials[{}], but there are {}", file, index,
+                 model.materials.size());
+        if (default_id == ~0u) {
+            Material d;
+            d.name = "default";
+            d.albedo = glm::vec3(0.5f);
+            default_id = scene.add_material(d);
+        }
+        return default_id;
+    };
+
+    std::optional<Camera> camera;
+    std::uint64_t visits = 0;
+    struct Item {
+        int node;
+        glm::mat4 parent;
+        int depth;
+    };
+    std::vector<Item> stack;
+    for (auto it = roots.rbegin(); it != roots.rend(); ++it) stack.push_back({*it, glm::mat4(1.0f), 0});
+    while (!stack.empty()) {
+        const Item item = stack.back();
+        stack.pop_back();
+        if (item.node < 0 || std::size_t(item.node) >= model.nodes.size())
+            fail("{}: a scene or node refers to nodes[{}], but there are {} nodes", file, item.node,
+                 model.nodes.size());
+        if (item.depth > kMaxNodeDepth)
+            fail("{}: nodes[{}]: the node hierarchy is deeper than {} levels (a cycle?)", file,
+                 item.node, kMaxNodeDepth);
+        if (++visits > kMaxNodeVisits)
+            fail("{}: more than {} node visits (nodes shared too often)", file, kMaxNodeVisits);
+        const tinygltf::Node& node = model.nodes[item.node];
+        const glm::mat4 world = item.parent * local_transform(node, file, item.node);
+
+        // The first camera met
+        if (node.camera >= 0 && !camera) {
+            if (std::size_t(node.camera) >= model.cameras.size())
+                fail("{}: nodes[{}] refers to cameras[{}], but there are {}", file, item.node,
+                     node.camera, model.cameras.size());
+            const tinygltf::Camera& gc = model.cameras[node.camera];
+            if (gc.type == "perspective") {
+                Camera c;
+                const double yfov = gc.perspective.yfov * 180.0 / M_PI;
+                if (!(yfov > 0.0 && yfov < 180.0))
+                    fail("{}: cameras[{}].perspective.yfov {} is not in (0, pi)", file, node.camera,
+                         gc.perspective.yfov);
+                c.vfov_deg = float(yfov);
+                c.width = 800;
+                c.height = 600;
+                const double aspect = gc.perspective.aspectRatio;
+                if (aspect > 0.0 && std::isfinite(aspect)) {
+                    const double h = std::round(800.0 / aspect);
+                    if (!(h >= 1.0 && h <= 16384.0))
+                        fail("{}: cameras[{}].perspective.aspectRatio {} gives a film of 800 x {}",
+                             file, node.camera, aspect, h);
+                    c.height = int(h);
+                }
+                c.position = glm::vec3(world[3]);
+                const glm::vec3 fwd = -glm::vec3(world[2]);
+                const float len = glm::length(fwd);
+                if (!(len > 0.0f) || !std::isfinite(len))
+                    fail("{}: nodes[{}]: the camera's transform has no viewing direction", file,
+                         item.node);
+                c.target = c.position + fwd / len;
+                c.up = glm::vec3(world[1]);
+                camera = c;
+            } else {
+                ++notes.ortho;
+            }
+        }
+
+        // Mesh primitives
+        if (node.mesh >= 0) {
+            if (std::size_t(node.mesh) >= model.meshes.size())
+                fail("{}: nodes[{}] refers to meshes[{}], but there are {}", file, item.node,
+                     node.mesh, model.meshes.size());
+            const tinygltf::Mesh& mesh = model.meshes[node.mesh];
+            const bool mirror = glm::determinant(glm::mat3(world)) < 0.0f;
+            for (std::size_t pi = 0; pi < mesh.primitives.size(); ++pi) {
+                const tinygltf::Primitive& prim = mesh.primitives[pi];
+                const std::string where = fmt::format("meshes[{}].primitives[{}]", node.mesh, pi);
+                if (prim.mode != -1 && prim.mode != TINYGLTF_MODE_TRIANGLES) {
+                    ++notes.modes;
+                    continue;
+                }
+                auto pos_it = prim.attributes.find("POSITION");
+                if (pos_it == prim.attributes.end())
+                    fail("{}: {} has no POSITION attribute", file, where);
+                const int pa = pos_it->second;
+                if (pa < 0 || std::size_t(pa) >= model.accessors.size())
+                    fail("{}: {} POSITION refers to accessors[{}], but there are {}", file, where,
+                         pa, model.accessors.size());
+                const tinygltf::Accessor& pacc = model.accessors[pa];
+                if (pacc.sparse.isSparse) {
+                    ++notes.sparse;
+                    continue;
+                }
+                if (pacc.type != TINYGLTF_TYPE_VEC3)
+                    fail("{}: {} POSITION (accessors[{}]) is not VEC3", file, where, pa);
+                if (pacc.componentType != TINYGLTF_COMPONENT_TYPE_FLOAT) {
+                    ++notes.quantized;
+                    continue;
+                }
+                const View pv = accessor_view(model, pa, 12, file, where + " POSITION");
+
+                // Triangles: indices or consecutive vertices
+                std::size_t ntri = 0;
+                View iv;
+                int isize = 0;
+                if (prim.indices >= 0) {
+                    if (std::size_t(prim.indices) >= model.accessors.size())
+                        fail("{}: {} indices refer to accessors[{}], but there are {}", file, where,
+                             prim.indices, model.accessors.size());
+                    const tinygltf::Accessor& ia = model.accessors[prim.indices];
+                    if (ia.sparse.isSparse) {
+                        ++notes.sparse;
+                        continue;
+                    }
+                    if (ia.type != TINYGLTF_TYPE_SCALAR ||
+                        (ia.componentType != TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE &&
+                         ia.componentType != TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT &&
+                         ia.componentType != TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT))
+                        fail("{}: {} indices (accessors[{}]) must be SCALAR unsigned byte, short "
+                             "or int",
+                             file, where, prim.indices);
+                    isize = component_size(ia.componentType);
+                    iv = accessor_view(model, prim.indices, std::size_t(isize), file,
+                                       where + " indices");
+                    if (iv.count % 3 != 0)
+                        fail("{}: {} has {} indices, not a multiple of 3", file, where, iv.count);
+                    ntri = iv.count / 3;
+                } else {
+                    if (pv.count % 3 != 0)
+                        fail("{}: {} has {} vertices and no indices, not a multiple of 3", file,
+                             where, pv.count);
+                    ntri = pv.count / 3;
+                }
+                if (scene.triangles.size() + ntri > kMaxTriangles ||
+                    scene.positions.size() + pv.count > kMaxVertices)
+                    fail("{}: {}: more than {} triangles or {} vertices in all (the limit)", file,
+                         where, kMaxTriangles, kMaxVertices);
+
+                // Positions to world space, checked
+                const auto base = static_cast<std::uint32_t>(scene.positions.size());
+                for (std::size_t i = 0; i < pv.count; ++i) {
+                    float p[3];
+                    std::memcpy(p, pv.at(i), 12);
+                    if (!std::isfinite(p[0]) || !std::isfinite(p[1]) || !std::isfinite(p[2]))
+                        fail("{}: {} POSITION (accessors[{}]) element {} is not finite ({}, {}, "
+                             "{})",
+                             file, where, pa, i, p[0], p[1], p[2]);
+                    const glm::vec3 w = glm::vec3(world * glm::vec4(p[0], p[1], p[2], 1.0f));
+                    if (!std::isfinite(w.x) || !std::isfinite(w.y) || !std::isfinite(w.z))
+                        fail("{}: {} vertex {} is not finite after the node transform", file, where,
+                             i);
+                    scene.positions.push_back(w);
+                }
+                const std::uint32_t mat = material_for(prim.material);
+                for (std::size_t t = 0; t < ntri; ++t) {
+                    glm::uvec3 tri;
+                    for (int k = 0; k < 3; ++k) {
+                        std::uint32_t v = std::uint32_t(3 * t + k);
+                        if (isize > 0) {
+                            const unsigned char* q = iv.at(3 * t + k);
+                            if (isize == 1) v = q[0];
+                            else if (isize == 2) {
+                                std::uint16_t s;
+                                std::memcpy(&s, q, 2);
+                                v = s;
+                            } else {
+                                std::memcpy(&v, q, 4);
+                            }
+                            if (v >= pv.count)
+                                fail("{}: {} index {} is {}, but POSITION has {} vertices", file,
+                                     where, 3 * t + k, v, pv.count);
+                        }
+                        tri[k] = base + v;
+                    }
+                    if (mirror) std::swap(tri.y, tri.z);
+                    scene.triangles.push_back(tri);
+                    scene.material_ids.push_back(mat);
+                }
+            }
+        }
+        for (auto c = node.children.rbegin(); c != node.children.rend(); ++c)
+            stack.push_back({*c, world, item.depth + 1});
+    }
+    if (scene.triangles.empty()) fail("{}: no triangles (no TRIANGLES primitive in the scene)", file);
+
+    // One warning per approximation kind
+    auto note = [&](int n, const std::string& text) {
+        if (n > 0) scene.warnings.push_back(fmt::format("{}: {}", file, fmt::format(fmt::runtime(text), n)));
+    };
+    note(notes.textures, "{} material(s) use textures; textures are ignored (factors only)");
+    note(notes.partial_metal, "{} material(s) have metallicFactor between 0 and 1; rounded to 0 or 1");
+    note(notes.alpha, "{} material(s) use alpha (BLEND, MASK or base alpha < 1); rendered opaque");
+    note(notes.rough_glass, "{} transmissive material(s) are rough; rendered as smooth glass");
+    note(notes.clamped, "{} material(s) have baseColorFactor outside [0, 1]; clamped");
+    note(notes.modes, "{} primitive(s) are not TRIANGLES (points, lines, strips, fans); skipped");
+    note(notes.sparse, "{} primitive(s) use sparse accessors; skipped");
+    note(notes.quantized, "{} primitive(s) have non-float POSITION (quantized); skipped");
+    note(notes.ortho, "{} orthographic camera(s) ignored");
+
+    scene.camera = camera ? *camera : frame_bounds(scene.bounds());
+    scene.background = glm::vec3(0.0f);
+    validate_scene(scene);
+    return scene;
+}
+
+Scene load_gltf(const fs::path& path) {
+    const std::string file = path.string();
+    std::error_code ec;
+    if (!fs::exists(path, ec)) fail("cannot open '{}': no such file", file);
+    if (fs::is_directory(path, ec)) fail("cannot open '{}': it is a directory", file);
+    const auto size = fs::file_size(path, ec);
+    if (ec) fail("cannot open '{}': {}", file, ec.message());
+    if (size > kMaxFileBytes)
+        fail("{}: the file is {} bytes, more than the limit of {}", file, size, kMaxFileBytes);
+    std::ifstream in(path, std::ios::binary);
+    if (!in) fail("cannot open '{}'", file);
+    std::string bytes(size, '\0');
+    in.read(bytes.data(), std::streamsize(size));
+    if (std::uint64_t(in.gcount()) != size) fail("cannot read '{}'", file);
+    return parse_gltf(bytes, path);
 }
 
 }  // namespace wp

@@ -1,5 +1,44 @@
-// gltf_loader.h — glTF 2.0 files (.gltf, .glb) through tinygltf.
-// (Interface stub: the full contract is written with the implementation.)
+// gltf_loader.h — glTF 2.0 files (.gltf JSON with external or data-URI buffers, .glb) through
+// tinygltf (Debian libtinygltf-dev).
+//
+// Geometry: the default scene (else scene 0, else every root node) is walked depth first;
+// each node's local transform is its `matrix` or T × R × S, composed parent × child. Every
+// primitive of mode TRIANGLES (4, the default) is added, indexed (u8, u16, u32 indices) or
+// not, positions transformed to world space; a mirroring world transform reverses the
+// winding so the front stays the front. Other modes (points, lines, strips, fans) and sparse
+// or non-float POSITION accessors are skipped with ONE warning per kind per file. Every
+// accessor is bounds-checked against its buffer view and buffer (tinygltf does not always).
+// Degenerate triangles are kept.
+//
+// Materials (metallic-roughness → wavepath), first rule that matches wins:
+//   KHR_materials_transmission, transmissionFactor >= 0.5 → Glass, ior = KHR_materials_ior
+//                                                          (1.5 when absent), albedo = base
+//   metallicFactor >= 0.5, GGX alpha = roughness² < 0.001  → Mirror, albedo = base colour
+//   metallicFactor >= 0.5                                   → Glossy, albedo = base colour,
+//                                                            exponent = 2 / alpha² − 2
+//   otherwise                                               → Diffuse, albedo = base colour
+// base colour = baseColorFactor rgb, clamped to [0, 1]; emission = emissiveFactor ×
+// KHR_materials_emissive_strength (any kind). ONE warning per file for each approximation:
+// textures ignored (all of them: base colour, metallic-roughness, normal, occlusion,
+// emissive), metallic between 0 and 1 rounded, alpha (alphaMode BLEND/MASK or base alpha
+// < 1) ignored, rough glass rendered smooth. Specular/dielectric reflection of non-metals
+// (glTF's F0 = 0.04 layer) is not modelled. A primitive without a material gets the mid-grey
+// (0.5) diffuse "default", without a warning (glTF allows it).
+//
+// Camera: the first node in the walk that has a camera. Perspective: vertical fov = yfov;
+// film 800 × round(800 / aspectRatio) (800 × 600 without aspectRatio); the camera looks down
+// its node's −Z with +Y up. Orthographic cameras are ignored with a warning. Without a
+// camera: the framing of load_obj (800 x 600, 40 degrees, from +z). Black background.
+//
+// Hostile input: GLB header and chunk lengths checked before tinygltf sees them; external
+// files are read only as regular files up to 1 GiB (never written, no path expansion);
+// images are not decoded; at most 2^25 triangles and 2^27 vertices after instancing, node
+// depth 256 (a cycle fails there), 2^20 node visits.
+//
+// Errors: wp::Error naming the file, the JSON place (meshes[i].primitives[j],
+// accessors[k], nodes[n]) or the byte offset, and the problem, e.g.
+// "box.glb: truncated: the GLB header says 2048 bytes, the file has 1000". The result has
+// passed validate_scene.
 #pragma once
 
 #include <filesystem>
@@ -9,6 +48,11 @@
 
 namespace wp {
 
+// Reads the file (missing, unreadable, empty → wp::Error) and parses it.
 Scene load_gltf(const std::filesystem::path& path);
+
+// The same from memory: a .glb when the bytes start with "glTF", else JSON text; external
+// buffers are resolved relative to origin's folder; origin names the file in messages.
+Scene parse_gltf(std::string_view bytes, const std::filesystem::path& origin);
 
 }  // namespace wp

@@ -1,7 +1,69 @@
-// json_scene.h — wavepath JSON scene files (see README, 'Scene files').
-// (Interface stub: the full contract is written with the implementation.)
+// json_scene.h — wavepath JSON scene files (README, "Scene files").
+//
+// A scene file is one JSON object. Every key is checked: an unknown key anywhere is an error
+// that names its JSON path and suggests a close known key ("materail" → "material"); so is a
+// key given twice in one object. Keys (defaults in brackets):
+//
+//   "version"     1 (optional; the only version so far)
+//   "camera"      optional object; without it (or without a position) the camera frames the
+//                 scene's bounding box from +z
+//     "position", "look_at"   [x, y, z]; both or neither
+//     "up"                    [x, y, z]                         [[0, 1, 0]]
+//     "matrix"                instead of position/look_at/up: camera-to-world, 16 numbers
+//                             row-major (or 4 rows of 4); column 1 = up, column 2 = viewing
+//                             direction, column 3 = position (Scene camera_from_matrix)
+//     "fov"                   field of view in degrees, in (0, 180)   [40]
+//     "fov_axis"              "y" (vertical) or "x" (horizontal)      ["y"]
+//     "width", "height"       film in pixels, 1..16384 each, at most 2^26 pixels  [800, 600]
+//   "background"  radiance of rays that leave the scene: a number (grey) or [r, g, b], >= 0  [0]
+//   "render"      optional defaults that --spp, --depth and --seed on the command line beat:
+//     "spp" 1..2^24, "depth" (bounces, as --depth) 0..1024, "seed" 0..2^32-1
+//   "materials"   object: name → material
+//     "type"          "diffuse" | "mirror" | "glossy" | "glass"  (required)
+//     "reflectance"   albedo (diffuse, glossy: F0) or tint (mirror, glass): number or
+//                     [r, g, b] in [0, 1]  [0.8 diffuse and glossy, 1 mirror and glass]
+//     "emission"      emitted radiance, front (counter-clockwise) side only: number or
+//                     [r, g, b] >= 0; any type  [0]
+//     "roughness"     glossy: GGX alpha in [0.0001, 1], stored as exponent 2/alpha^2 - 2
+//     "exponent"      glossy: the Phong-style exponent >= 0 instead    [100, alpha ≈ 0.14]
+//     "ior"           glass: index of refraction inside / outside, in (0, 10]   [1.5]
+//   "shapes"      array (required, non-empty); each an object with
+//     "type"          "mesh" | "quad" | "box" | "sphere" | "stress"
+//     "material"      a name from "materials"; required except for "mesh", whose default is
+//                     the file's own materials
+//     "transform"     optional, below
+//   and by type:
+//     mesh:   "file"  .obj/.gltf/.glb/.ply/... (scene/load.h: load_mesh_file), relative to
+//                     the scene file's folder
+//     quad:   "corner", "edge_u", "edge_v" ([x, y, z] each; normal cross(edge_u, edge_v)),
+//             or "size" (number or [w, h]: the quad [-w/2, w/2] x [-h/2, h/2] at z = 0,
+//             facing +z); "subdivisions" n or [nu, nv], 1..4096  [1]
+//     box:    "min" and "max" ([x, y, z], min < max), or "size" (number or [x, y, z] > 0)
+//             with "center" ([0, 0, 0]); "subdivisions" per face edge 1..1024  [1]
+//     sphere: "center" [[0, 0, 0]], "radius" > 0 [1], "rings" 2..4096 [32],
+//             "segments" 3..8192 [64]  (UV sphere, 2 segments (rings - 1) triangles)
+//     stress: "triangles" 48..2^24 [250000]: make_stress_mesh, the BVH benchmark's torus knot
+//   transform: an object {"matrix": M} or {"scale", "rotate", "translate"} (any subset,
+//     applied scale first, then rotate, then translate), or an array of one-key objects
+//     [{"translate": ...}, {"rotate": ...}, {"scale": ...}, {"matrix": ...}] applied in the
+//     order listed (the first entry acts on the shape first):
+//       "translate" [x, y, z]; "scale" s or [sx, sy, sz] (no zero; negative mirrors);
+//       "rotate" {"axis": [x, y, z], "degrees": d} (right-handed, counter-clockwise looking
+//       down the axis); "matrix" 16 numbers row-major or 4 rows of 4, affine (last row
+//       0 0 0 1), not singular.
+//
+// Only materials that some shape uses are kept (in file order); unused ones give a warning.
+// A scene in which no triangle emits and whose background is black gives the warning "no
+// light" and still loads. Warnings go to Scene::warnings, prefixed with the file name.
+//
+// Errors throw wp::Error with one message: "FILE:LINE:COLUMN: /json/path: problem", e.g.
+// "scene.json:7:9: /materials/white/materail: unknown key 'materail' ...". Malformed JSON
+// gives the line and column of the syntax error. Limits against hostile input: 2^24
+// triangles in the whole scene, the per-shape counts above, files up to 64 MiB.
+// The result has passed validate_scene.
 #pragma once
 
+#include <cstddef>
 #include <filesystem>
 #include <string_view>
 
@@ -9,6 +71,17 @@
 
 namespace wp {
 
+// Most triangles a JSON scene may hold (built-in shapes and mesh files together).
+inline constexpr std::size_t kJsonSceneMaxTriangles = std::size_t(1) << 24;
+// Largest scene file load_json_scene reads.
+inline constexpr std::size_t kJsonSceneMaxBytes = std::size_t(64) << 20;
+
+// Reads and parses a scene file; mesh paths are relative to its folder.
 Scene load_json_scene(const std::filesystem::path& path);
+
+// Parses scene text in memory. `origin` names the file in messages, and its parent folder
+// resolves relative mesh paths. Returns a Scene or throws wp::Error, whatever the bytes; it
+// only ever reads files (the meshes the text names), never writes any.
+Scene parse_json_scene(std::string_view text, const std::filesystem::path& origin);
 
 }  // namespace wp

@@ -1,11 +1,1474 @@
 #include "scene/mitsuba_loader.h"
 
+#include <algorithm>
+#include <array>
+#include <charconv>
+#include <cmath>
+#include <cstdint>
+#include <fstream>
+#include <numbers>
+#include <optional>
+#include <set>
+#include <sstream>
+#include <utility>
+#include <vector>
+
+#include <fmt/format.h>
+#include <glm/gtc/matrix_transform.hpp>
+#include <pugixml.hpp>
+
+#include "scene/load.h"
+#include "scene/procedural.h"
+#include "scene/validate.h"
 #include "util/error.h"
 
 namespace wp {
 
-Scene load_mitsuba(const std::filesystem::path& path) {
-    fail("'{}': this format is not supported yet", path.string());
+namespace {
+
+namespace fs = std::filesystem;
+constexpr double kPi = std::numbers::pi;
+
+// Limits against hostile input (see mitsuba_loader.h).
+constexpr int kUnboundedDepth = 64; // bounces for max_depth -1 (and the cap)
+constexpr int kMaxFilmSide = 16384;
+constexpr long long kMaxFilmPixels = 1LL << 26;
+constexpr long long kMaxSpp = 1LL << 24;
+constexpr std::size_t kMaxTriangles = std::size_t(1) << 25;
+constexpr int kMaxBsdfNesting = 16;
+constexpr int kMaxElementNesting = 64;
+constexpr std::size_t kMaxExpansion = std::size_t(1) << 16; // bytes of one expanded attribute
+constexpr std::uintmax_t kMaxFileBytes = std::uintmax_t(256) << 20;
+// Tessellation of the analytic shapes.
+constexpr int kSphereSubdivisions = 4; // 20 * 4^4 = 5,120 triangles
+constexpr int kRoundSegments = 128;    // disk and cylinder
+
+// --- Grammar ------------------------------------------------------------------------------
+
+enum class TagKind { Scene, Default, Property, Transform, TransformOp, Object, Ref, Unsupported };
+
+struct TagInfo {
+    std::string_view name;
+    TagKind kind;
+    std::array<std::string_view, 5> attrs; // allowed attributes ("" = unused slot)
+};
+
+// Every element of Mitsuba 3's scene format that this reader knows. Elements outside this
+// table are errors; "Unsupported" ones are skipped with a warning.
+constexpr TagInfo kTags[] = {
+    {"scene", TagKind::Scene, {"version"}},
+    {"default", TagKind::Default, {"name", "value"}},
+    {"integer", TagKind::Property, {"name", "value"}},
+    {"float", TagKind::Property, {"name", "value"}},
+    {"boolean", TagKind::Property, {"name", "value"}},
+    {"string", TagKind::Property, {"name", "value"}},
+    {"rgb", TagKind::Property, {"name", "value"}},
+    {"spectrum", TagKind::Property, {"name", "value", "filename"}},
+    {"point", TagKind::Property, {"name", "value", "x", "y", "z"}},
+    {"vector", TagKind::Property, {"name", "value", "x", "y", "z"}},
+    {"transform", TagKind::Transform, {"name"}},
+    {"translate", TagKind::TransformOp, {"value", "x", "y", "z"}},
+    {"rotate", TagKind::TransformOp, {"value", "x", "y", "z", "angle"}},
+    {"scale", TagKind::TransformOp, {"value", "x", "y", "z"}},
+    {"matrix", TagKind::TransformOp, {"value"}},
+    {"lookat", TagKind::TransformOp, {"origin", "target", "up"}},
+    {"ref", TagKind::Ref, {"id", "name"}},
+    {"bsdf", TagKind::Object, {"type", "id", "name"}},
+    {"shape", TagKind::Object, {"type", "id", "name"}},
+    {"emitter", TagKind::Object, {"type", "id", "name"}},
+    {"sensor", TagKind::Object, {"type", "id", "name"}},
+    {"film", TagKind::Object, {"type", "id", "name"}},
+    {"sampler", TagKind::Object, {"type", "id", "name"}},
+    {"integrator", TagKind::Object, {"type", "id", "name"}},
+    {"rfilter", TagKind::Object, {"type", "id", "name"}},
+    {"texture", TagKind::Object, {"type", "id", "name"}},
+    {"medium", TagKind::Object, {"type", "id", "name"}},
+    {"phase", TagKind::Object, {"type", "id", "name"}},
+    {"volume", TagKind::Object, {"type", "id", "name"}},
+    {"include", TagKind::Unsupported, {"filename"}},
+    {"alias", TagKind::Unsupported, {"id", "as"}},
+    {"path", TagKind::Unsupported, {"value"}},
+};
+
+const TagInfo* tag_info(std::string_view name) {
+    for (const TagInfo& t : kTags)
+        if (t.name == name) return &t;
+    return nullptr;
 }
 
-}  // namespace wp
+bool is_ident_char(char c) {
+    return (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') || (c >= '0' && c <= '9') || c == '_';
+}
+
+bool is_identifier(std::string_view s) {
+    return !s.empty() && std::all_of(s.begin(), s.end(), is_ident_char);
+}
+
+std::string lower(std::string s) {
+    for (auto& c : s)
+        c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+    return s;
+}
+
+// --- Tables ---------------------------------------------------------------------------------
+
+// Mitsuba's named indices of refraction (include/mitsuba/render/ior.h).
+struct NamedIor {
+    std::string_view name;
+    double ior;
+};
+constexpr NamedIor kIors[] = {
+    {"vacuum", 1.0},      {"helium", 1.000036},        {"hydrogen", 1.000132},
+    {"air", 1.000277},    {"carbon dioxide", 1.00045}, {"water", 1.3330},
+    {"acetone", 1.36},    {"ethanol", 1.361},          {"carbon tetrachloride", 1.461},
+    {"glycerol", 1.4729}, {"benzene", 1.501},          {"silicone oil", 1.52045},
+    {"bromine", 1.661},   {"water ice", 1.31},         {"fused quartz", 1.458},
+    {"pyrex", 1.470},     {"acrylic glass", 1.49},     {"polypropylene", 1.49},
+    {"bk7", 1.5046},      {"sodium chloride", 1.544},  {"amber", 1.55},
+    {"pet", 1.5750},      {"diamond", 2.419},
+};
+
+// RGB complex indices of refraction of common metals: the values of Tungsten's
+// ComplexIorData.hpp (fits of the same measured spectra Mitsuba's conductor uses).
+struct Metal {
+    std::string_view name;
+    glm::vec3 eta, k;
+};
+const Metal kMetals[] = {
+    {"Ag", {0.1552646f, 0.1167233f, 0.1383807f}, {4.8283433f, 3.1222459f, 2.1469504f}},
+    {"Al", {1.6574600f, 0.8803690f, 0.5212287f}, {9.2238692f, 6.2695232f, 4.8370012f}},
+    {"Au", {0.1431190f, 0.3749570f, 1.4424786f}, {3.9831604f, 2.3857207f, 1.6032153f}},
+    {"Be", {4.1850593f, 3.1850604f, 2.7840913f}, {3.8354398f, 3.0101260f, 2.8690089f}},
+    {"Cr", {4.3696829f, 2.9167025f, 1.6547005f}, {5.2064338f, 4.2313645f, 3.7549468f}},
+    {"Cu", {0.2004377f, 0.9240334f, 1.1022120f}, {3.9129485f, 2.4528477f, 2.1421880f}},
+    {"Hg", {2.3989315f, 1.4400255f, 0.9095512f}, {6.3276269f, 4.3719414f, 3.4217899f}},
+    {"Ir", {3.0864098f, 2.0821938f, 1.6178867f}, {5.5921510f, 4.0671757f, 3.2672611f}},
+    {"K", {0.0640493f, 0.0464101f, 0.0381842f}, {2.1042156f, 1.3489364f, 0.9132114f}},
+    {"Li", {0.2657872f, 0.1956102f, 0.2209199f}, {3.5401743f, 2.3111307f, 1.6685930f}},
+    {"Mo", {4.4837010f, 3.5254578f, 2.7760769f}, {4.1111308f, 3.4208716f, 3.1506031f}},
+    {"Na_palik", {0.0602665f, 0.0561412f, 0.0619909f}, {3.1792906f, 2.1124801f, 1.5790940f}},
+    {"Ni_palik", {2.3672754f, 1.6633583f, 1.4670554f}, {4.4988330f, 3.0501644f, 2.3454274f}},
+    {"Rh", {2.5857955f, 1.8601866f, 1.5544280f}, {6.7822927f, 4.7029501f, 3.9760892f}},
+    {"Ta", {2.0625847f, 2.3930916f, 2.6280685f}, {2.4080468f, 1.7413706f, 1.9470377f}},
+    {"TiN", {1.6484692f, 1.1504483f, 1.3797795f}, {3.3684596f, 1.9434889f, 1.1020123f}},
+    {"VN", {2.8656012f, 2.1191818f, 1.9400767f}, {3.0323265f, 2.0561076f, 1.6162931f}},
+    {"W", {4.3707030f, 3.3002972f, 2.9982667f}, {3.5006779f, 2.6048653f, 2.2731931f}},
+};
+
+// Normal-incidence Fresnel reflectance of a conductor, per channel.
+glm::vec3 fresnel_f0(glm::vec3 eta, glm::vec3 k) {
+    glm::vec3 a = (eta - 1.0f) * (eta - 1.0f) + k * k;
+    glm::vec3 b = (eta + 1.0f) * (eta + 1.0f) + k * k;
+    return a / b;
+}
+
+// --- The reader -----------------------------------------------------------------------------
+
+struct Obj {
+    struct Item {
+        pugi::xml_node node;
+        bool used = false;
+    };
+    pugi::xml_node node;
+    std::string tag, type;
+    std::vector<std::pair<std::string, Item>> props; // property elements by name
+    std::vector<Item> nested;                        // nested objects and refs
+};
+
+class Reader {
+  public:
+    Reader(std::string_view xml, const fs::path& origin, const MitsubaParams& params)
+        : text_(xml), file_(origin.string()), dir_(origin.parent_path()), params_(params) {
+        for (const auto& [name, value] : params)
+            if (!is_identifier(name))
+                fail("{}: parameter name '{}' must consist of letters, digits and '_'", file_,
+                     name);
+        line_starts_.push_back(0);
+        for (std::size_t i = 0; i < text_.size(); ++i)
+            if (text_[i] == '\n') line_starts_.push_back(i + 1);
+    }
+
+    Scene read();
+
+  private:
+    std::string_view text_;
+    std::string file_;
+    fs::path dir_;
+    MitsubaParams params_;
+    std::vector<std::size_t> line_starts_;
+    Scene scene_;
+
+    // Warnings, aggregated by kind: text, first place, count.
+    struct Note {
+        std::string text, where;
+        int count = 0;
+    };
+    std::vector<Note> notes_;
+    std::map<std::string, std::size_t> note_index_;
+
+    // Objects with an id (Mitsuba: one namespace), named BSDFs and textures.
+    std::map<std::string, pugi::xml_node> ids_;
+    struct NamedBsdf {
+        Material material;
+        std::optional<std::uint32_t> id; // scene material, once a shape uses it
+    };
+    std::map<std::string, NamedBsdf> bsdfs_;
+    std::map<std::string, pugi::xml_node> textures_;
+    std::optional<std::uint32_t> default_material_;
+    std::map<std::string, Mesh> mesh_cache_;
+
+    bool have_sensor_ = false;
+    std::optional<glm::dmat4> camera_to_world_; // set by the sensor
+    int emitter_shapes_ = 0;
+    int skipped_shapes_ = 0;
+
+    // Places and messages
+    std::pair<int, int> line_col(std::ptrdiff_t offset) const;
+    std::string where(pugi::xml_node n) const;
+    static std::string describe(pugi::xml_node n);
+    template <typename... Args>
+    [[noreturn]] void error(pugi::xml_node n, fmt::format_string<Args...> f, Args&&... args) const {
+        fail("{}: {}: {}", where(n), describe(n), fmt::format(f, std::forward<Args>(args)...));
+    }
+    void note(const std::string& key, pugi::xml_node n, std::string text);
+
+    // Structure and attributes
+    void check_structure(pugi::xml_node root) const;
+    std::string expand(pugi::xml_node n, const char* attr, std::string_view raw) const;
+    std::optional<std::string> attr(pugi::xml_node n, const char* name) const;
+    std::string required(pugi::xml_node n, const char* name) const;
+    double number(pugi::xml_node n, const char* what, std::string_view s) const;
+    std::vector<double> numbers(pugi::xml_node n, const char* what, std::string_view s) const;
+    glm::dvec3 vec3_attr(pugi::xml_node n, const char* name, std::optional<glm::dvec3> def) const;
+
+    // Objects and their properties
+    Obj collect(pugi::xml_node n);
+    Obj::Item* prop(Obj& o, std::string_view name, std::initializer_list<std::string_view> tags,
+                    const char* expected);
+    std::optional<double> get_float(Obj& o, std::string_view name);
+    std::optional<long long> get_int(Obj& o, std::string_view name);
+    std::optional<bool> get_bool(Obj& o, std::string_view name);
+    std::optional<std::string> get_string(Obj& o, std::string_view name);
+    std::optional<glm::dvec3> get_point(Obj& o, std::string_view name);
+    std::optional<glm::dmat4> get_transform(Obj& o, std::string_view name);
+    std::optional<glm::vec3> get_color(Obj& o, std::string_view name);
+    glm::vec3 reflectance(Obj& o, std::string_view name, float def);
+    glm::vec3 color_value(pugi::xml_node p);
+    glm::vec3 texture_color(pugi::xml_node t);
+    void mark_used(Obj& o, std::initializer_list<std::string_view> names);
+    void finish(Obj& o);
+    void skip(Obj& o); // marks everything used (for objects skipped as a whole)
+
+    glm::dmat4 transform(pugi::xml_node t) const;
+    double positive(pugi::xml_node n, const char* what, double v) const;
+
+    // Scene parts
+    void read_default(pugi::xml_node n);
+    void register_id(pugi::xml_node n);
+    void read_integrator(pugi::xml_node n);
+    void read_sensor(pugi::xml_node n);
+    Material read_bsdf(pugi::xml_node n, int depth, bool two_sided);
+    Material bsdf_ref(pugi::xml_node ref, const std::string& id);
+    void read_shape(pugi::xml_node n);
+    void read_emitter(pugi::xml_node n);
+    const Mesh& mesh_file(pugi::xml_node n, const std::string& filename);
+    std::uint32_t shape_material(Obj& o, std::optional<glm::vec3> emission);
+    void add_geometry(pugi::xml_node n, Mesh mesh, const glm::dmat4& m, bool flip,
+                      std::uint32_t material);
+};
+
+// Line (1-based) and column (1-based, in bytes) of a byte offset.
+std::pair<int, int> Reader::line_col(std::ptrdiff_t offset) const {
+    if (offset < 0) return {0, 0};
+    auto off = static_cast<std::size_t>(offset);
+    auto it = std::upper_bound(line_starts_.begin(), line_starts_.end(), off);
+    std::size_t line = static_cast<std::size_t>(it - line_starts_.begin()); // >= 1
+    return {int(line), int(off - line_starts_[line - 1] + 1)};
+}
+
+std::string Reader::where(pugi::xml_node n) const {
+    // offset_debug is the element's name; the '<' is one byte before it.
+    std::ptrdiff_t off = n ? n.offset_debug() : -1;
+    if (off > 0) --off;
+    auto [line, col] = line_col(off);
+    if (line == 0) return file_;
+    return fmt::format("{}:{}:{}", file_, line, col);
+}
+
+// "<shape type="obj" id="floor">": the element with the attributes that identify it (raw
+// values: a description must not fail on an undefined $parameter).
+std::string Reader::describe(pugi::xml_node n) {
+    std::string s = fmt::format("<{}", n.name());
+    for (const char* a : {"type", "name", "id"}) {
+        auto at = n.attribute(a);
+        if (!at) continue;
+        std::string v = at.value();
+        if (v.size() > 60) v = v.substr(0, 57) + "...";
+        s += fmt::format(" {}=\"{}\"", a, v);
+    }
+    return s + ">";
+}
+
+void Reader::note(const std::string& key, pugi::xml_node n, std::string text) {
+    auto [it, fresh] = note_index_.try_emplace(key, notes_.size());
+    if (fresh) notes_.push_back({std::move(text), where(n), 0});
+    ++notes_[it->second].count;
+}
+
+// One pass over the whole tree before anything is interpreted: every element known, every
+// attribute allowed where it is, transform steps only inside <transform>, properties
+// without children, nesting bounded. Iterative, so deep input cannot exhaust the stack.
+void Reader::check_structure(pugi::xml_node root) const {
+    std::vector<std::pair<pugi::xml_node, int>> stack{{root, 1}};
+    while (!stack.empty()) {
+        auto [n, depth] = stack.back();
+        stack.pop_back();
+        const TagInfo* info = tag_info(n.name());
+        if (!info)
+            error(n, "unknown element <{}> (not part of Mitsuba 3's scene format)", n.name());
+        if (depth > kMaxElementNesting)
+            error(n, "elements are nested more than {} deep", kMaxElementNesting);
+        for (pugi::xml_attribute a : n.attributes()) {
+            std::string_view an = a.name();
+            if (std::find(info->attrs.begin(), info->attrs.end(), an) == info->attrs.end() ||
+                an.empty()) {
+                std::string allowed;
+                for (auto x : info->attrs)
+                    if (!x.empty()) allowed += fmt::format("{}{}", allowed.empty() ? "" : ", ", x);
+                error(n, "unknown attribute '{}' (<{}> takes: {})", an, n.name(),
+                      allowed.empty() ? "none" : allowed);
+            }
+        }
+        pugi::xml_node parent = n.parent();
+        const bool in_transform = parent && std::string_view(parent.name()) == "transform";
+        if (info->kind == TagKind::Scene && n != root)
+            error(n, "<scene> may only be the root element");
+        if (info->kind == TagKind::TransformOp && !in_transform)
+            error(n, "<{}> belongs inside a <transform>", n.name());
+        if (in_transform && info->kind != TagKind::TransformOp)
+            error(n, "<transform> may only hold translate, rotate, scale, matrix and lookat");
+        if (info->kind == TagKind::Default && parent != root)
+            error(n, "<default> must be a child of <scene>");
+        const bool leaf = info->kind == TagKind::Property || info->kind == TagKind::TransformOp ||
+                          info->kind == TagKind::Default || info->kind == TagKind::Ref;
+        for (pugi::xml_node c : n.children()) {
+            if (c.type() != pugi::node_element) continue;
+            if (leaf) error(c, "<{}> takes no child elements", n.name());
+            stack.push_back({c, depth + 1});
+        }
+    }
+}
+
+// Substitutes $parameters in an attribute value: '$' and the longest name after it.
+std::string Reader::expand(pugi::xml_node n, const char* attr, std::string_view raw) const {
+    std::string out;
+    std::size_t i = 0;
+    while (i < raw.size()) {
+        std::size_t d = raw.find('$', i);
+        if (d == std::string_view::npos) {
+            out.append(raw.substr(i));
+            break;
+        }
+        out.append(raw.substr(i, d - i));
+        std::size_t j = d + 1;
+        while (j < raw.size() && is_ident_char(raw[j]))
+            ++j;
+        std::string name(raw.substr(d + 1, j - d - 1));
+        if (name.empty())
+            error(n, "attribute {}=\"{}\": '$' must be followed by a parameter name", attr, raw);
+        auto it = params_.find(name);
+        if (it == params_.end())
+            error(n,
+                  "attribute {}=\"{}\": undefined parameter ${} (define it with <default "
+                  "name=\"{}\" value=\"...\"/> before this element)",
+                  attr, raw, name, name);
+        out.append(it->second);
+        if (out.size() > kMaxExpansion)
+            error(n, "attribute {}: expands to more than {} bytes", attr, kMaxExpansion);
+        i = j;
+    }
+    return out;
+}
+
+std::optional<std::string> Reader::attr(pugi::xml_node n, const char* name) const {
+    pugi::xml_attribute a = n.attribute(name);
+    if (!a) return std::nullopt;
+    return expand(n, name, a.value());
+}
+
+std::string Reader::required(pugi::xml_node n, const char* name) const {
+    auto v = attr(n, name);
+    if (!v) error(n, "missing attribute '{}'", name);
+    return *v;
+}
+
+double Reader::number(pugi::xml_node n, const char* what, std::string_view s) const {
+    auto v = numbers(n, what, s);
+    if (v.size() != 1) error(n, "{} '{}': expected one number", what, s);
+    return v[0];
+}
+
+// Numbers separated by commas and/or white space; each must be finite.
+std::vector<double> Reader::numbers(pugi::xml_node n, const char* what, std::string_view s) const {
+    std::vector<double> out;
+    std::size_t i = 0;
+    auto sep = [](char c) { return c == ',' || c == ' ' || c == '\t' || c == '\n' || c == '\r'; };
+    while (i < s.size()) {
+        while (i < s.size() && sep(s[i]))
+            ++i;
+        if (i >= s.size()) break;
+        std::size_t j = i;
+        while (j < s.size() && !sep(s[j]))
+            ++j;
+        std::string_view tok = s.substr(i, j - i);
+        std::string_view t = tok;
+        if (!t.empty() && t[0] == '+') t.remove_prefix(1);
+        double x = 0.0;
+        auto [end, ec] = std::from_chars(t.data(), t.data() + t.size(), x);
+        if (ec == std::errc::result_out_of_range)
+            error(n, "{} '{}': '{}' is out of the number range", what, s, tok);
+        if (ec != std::errc() || end != t.data() + t.size())
+            error(n, "{} '{}': '{}' is not a number", what, s, tok);
+        if (!std::isfinite(x) || !std::isfinite(static_cast<float>(x)))
+            error(n, "{} '{}': '{}' is not a finite float", what, s, tok);
+        out.push_back(x);
+        if (out.size() > 16) error(n, "{}: more than 16 numbers", what);
+        i = j;
+    }
+    if (out.empty()) error(n, "{}: no number given", what);
+    return out;
+}
+
+// A 3-vector from value="x, y, z" or the x/y/z attributes (each defaulting to 0), or the
+// attribute `name` holding "x, y, z" (lookat).
+glm::dvec3 Reader::vec3_attr(pugi::xml_node n, const char* name,
+                             std::optional<glm::dvec3> def) const {
+    auto v = attr(n, name);
+    if (!v) {
+        if (!def) error(n, "missing attribute '{}'", name);
+        return *def;
+    }
+    auto xs = numbers(n, name, *v);
+    if (xs.size() != 3) error(n, "attribute {}=\"{}\": expected 3 numbers", name, *v);
+    return {xs[0], xs[1], xs[2]};
+}
+
+Obj Reader::collect(pugi::xml_node n) {
+    Obj o;
+    o.node = n;
+    o.tag = n.name();
+    if (auto t = attr(n, "type")) o.type = *t;
+    std::set<std::string> names;
+    for (pugi::xml_node c : n.children()) {
+        if (c.type() != pugi::node_element) continue;
+        const TagInfo* info = tag_info(c.name()); // known: check_structure ran
+        switch (info->kind) {
+        case TagKind::Property:
+        case TagKind::Transform: {
+            std::string name = required(c, "name");
+            if (!names.insert(name).second) error(c, "property '{}' is given twice", name);
+            o.props.push_back({name, Obj::Item{c, false}});
+            break;
+        }
+        case TagKind::Object:
+        case TagKind::Ref:
+            o.nested.push_back({c, false});
+            break;
+        case TagKind::Unsupported:
+            note(fmt::format("unsupported <{}>", c.name()), c,
+                 fmt::format("<{}> is not supported; ignored", c.name()));
+            break;
+        default:
+            error(c, "<{}> is not allowed inside <{}>", c.name(), n.name());
+        }
+    }
+    return o;
+}
+
+// The property `name` when present: its element must be one of `tags`.
+Obj::Item* Reader::prop(Obj& o, std::string_view name, std::initializer_list<std::string_view> tags,
+                        const char* expected) {
+    for (auto& [pn, item] : o.props) {
+        if (pn != name) continue;
+        item.used = true;
+        std::string_view tag = item.node.name();
+        if (std::find(tags.begin(), tags.end(), tag) == tags.end()) {
+            std::string list;
+            for (auto x : tags)
+                list += fmt::format("{}<{}>", list.empty() ? "" : " or ", x);
+            error(item.node, "property '{}' must be {} ({})", name, expected, list);
+        }
+        return &item;
+    }
+    return nullptr;
+}
+
+std::optional<double> Reader::get_float(Obj& o, std::string_view name) {
+    auto* p = prop(o, name, {"float", "integer"}, "a number");
+    if (!p) return std::nullopt;
+    return number(p->node, "value", required(p->node, "value"));
+}
+
+std::optional<long long> Reader::get_int(Obj& o, std::string_view name) {
+    auto* p = prop(o, name, {"integer"}, "an integer");
+    if (!p) return std::nullopt;
+    std::string v = required(p->node, "value");
+    std::string_view t = v;
+    while (!t.empty() && (t.front() == ' ' || t.front() == '\t'))
+        t.remove_prefix(1);
+    while (!t.empty() && (t.back() == ' ' || t.back() == '\t'))
+        t.remove_suffix(1);
+    if (!t.empty() && t[0] == '+') t.remove_prefix(1);
+    long long x = 0;
+    auto [end, ec] = std::from_chars(t.data(), t.data() + t.size(), x);
+    if (ec == std::errc::result_out_of_range ||
+        (ec == std::errc() && (x > INT32_MAX || x < INT32_MIN)))
+        error(p->node, "value '{}' is out of the integer range", v);
+    if (ec != std::errc() || end != t.data() + t.size() || t.empty())
+        error(p->node, "value '{}' is not an integer", v);
+    return x;
+}
+
+std::optional<bool> Reader::get_bool(Obj& o, std::string_view name) {
+    auto* p = prop(o, name, {"boolean"}, "a boolean");
+    if (!p) return std::nullopt;
+    std::string v = lower(required(p->node, "value"));
+    if (v == "true" || v == "1") return true;
+    if (v == "false" || v == "0") return false;
+    error(p->node, "value '{}' is not a boolean (true or false)", v);
+}
+
+std::optional<std::string> Reader::get_string(Obj& o, std::string_view name) {
+    auto* p = prop(o, name, {"string"}, "a string");
+    if (!p) return std::nullopt;
+    return required(p->node, "value");
+}
+
+std::optional<glm::dvec3> Reader::get_point(Obj& o, std::string_view name) {
+    auto* p = prop(o, name, {"point", "vector"}, "a point");
+    if (!p) return std::nullopt;
+    if (auto v = attr(p->node, "value")) {
+        auto xs = numbers(p->node, "value", *v);
+        if (xs.size() == 1) return glm::dvec3(xs[0]);
+        if (xs.size() != 3) error(p->node, "value '{}': expected 1 or 3 numbers", *v);
+        return glm::dvec3(xs[0], xs[1], xs[2]);
+    }
+    glm::dvec3 r(0.0);
+    const char* axes[] = {"x", "y", "z"};
+    for (int k = 0; k < 3; ++k)
+        if (auto v = attr(p->node, axes[k])) r[k] = number(p->node, axes[k], *v);
+    return r;
+}
+
+std::optional<glm::dmat4> Reader::get_transform(Obj& o, std::string_view name) {
+    auto* p = prop(o, name, {"transform"}, "a transform");
+    if (!p) return std::nullopt;
+    return transform(p->node);
+}
+
+// A colour property: <rgb>, <spectrum>, <float>, or a texture in its place (nested with
+// this name, or a <ref name=... id=...> to a texture).
+std::optional<glm::vec3> Reader::get_color(Obj& o, std::string_view name) {
+    if (auto* p = prop(o, name, {"rgb", "spectrum", "float", "integer"}, "a colour"))
+        return color_value(p->node);
+    for (auto& item : o.nested) {
+        auto nm = item.node.attribute("name");
+        if (!nm || expand(item.node, "name", nm.value()) != name) continue;
+        item.used = true;
+        std::string_view tag = item.node.name();
+        if (tag == "texture") return texture_color(item.node);
+        if (tag == "ref") {
+            std::string id = required(item.node, "id");
+            auto it = textures_.find(id);
+            if (it == textures_.end())
+                error(item.node, "no <texture id=\"{}\"> is defined before this point", id);
+            return texture_color(it->second);
+        }
+        error(item.node, "property '{}' must be a colour or a texture", name);
+    }
+    return std::nullopt;
+}
+
+// A reflectance: a colour in [0, 1] (default `def` grey).
+glm::vec3 Reader::reflectance(Obj& o, std::string_view name, float def) {
+    auto c = get_color(o, name);
+    if (!c) return glm::vec3(def);
+    if (glm::any(glm::lessThan(*c, glm::vec3(0.0f))) ||
+        glm::any(glm::greaterThan(*c, glm::vec3(1.0f)))) {
+        pugi::xml_node at = o.node;
+        for (auto& [pn, item] : o.props)
+            if (pn == name) at = item.node;
+        error(at, "{} ({}, {}, {}) is outside [0, 1]", name, c->x, c->y, c->z);
+    }
+    return *c;
+}
+
+glm::vec3 Reader::color_value(pugi::xml_node p) {
+    std::string_view tag = p.name();
+    if (tag == "spectrum" && p.attribute("filename")) {
+        note("spectrum file", p, "spectra from files are not supported; 0.5 used instead");
+        return glm::vec3(0.5f);
+    }
+    std::string v = required(p, "value");
+    if (tag == "spectrum" && v.find(':') != std::string::npos) {
+        // "λ:value, λ:value, ...": wavepath is RGB; the mean value as grey.
+        double sum = 0;
+        int count = 0;
+        std::size_t i = 0;
+        while (i < v.size()) {
+            std::size_t j = v.find(',', i);
+            if (j == std::string::npos) j = v.size();
+            std::string pair = v.substr(i, j - i);
+            std::size_t colon = pair.find(':');
+            if (colon == std::string::npos)
+                error(p, "value '{}': expected wavelength:value pairs", v);
+            number(p, "wavelength", pair.substr(0, colon));
+            sum += number(p, "value", pair.substr(colon + 1));
+            ++count;
+            if (count > 10000) error(p, "value: more than 10000 wavelength:value pairs");
+            i = j + 1;
+        }
+        note("spectrum pairs", p,
+             "sampled spectra (wavelength:value) are reduced to the mean of their values (grey)");
+        return glm::vec3(float(sum / count));
+    }
+    auto xs = numbers(p, "value", v);
+    if (xs.size() == 1) return glm::vec3(float(xs[0]));
+    if (xs.size() == 3 && tag == "rgb") return glm::vec3(float(xs[0]), float(xs[1]), float(xs[2]));
+    error(p, "value '{}': expected {}", v, tag == "rgb" ? "1 or 3 numbers" : "one number");
+}
+
+glm::vec3 Reader::texture_color(pugi::xml_node t) {
+    Obj o = collect(t);
+    glm::vec3 c(0.5f);
+    if (o.type == "checkerboard") {
+        glm::vec3 a = reflectance(o, "color0", 0.4f), b = reflectance(o, "color1", 0.2f);
+        c = 0.5f * (a + b);
+        note("texture checkerboard", t,
+             "checkerboard textures are not supported; the mean of color0 and color1 is used");
+    } else {
+        note("texture " + o.type, t,
+             fmt::format("textures of type '{}' are not supported; 0.5 grey is used instead",
+                         o.type));
+    }
+    skip(o);
+    return c;
+}
+
+void Reader::mark_used(Obj& o, std::initializer_list<std::string_view> names) {
+    for (auto& [pn, item] : o.props)
+        if (std::find(names.begin(), names.end(), pn) != names.end()) item.used = true;
+}
+
+void Reader::skip(Obj& o) {
+    for (auto& [pn, item] : o.props)
+        item.used = true;
+    for (auto& item : o.nested)
+        item.used = true;
+}
+
+// Whatever an object had that nothing read: one warning per kind of property.
+void Reader::finish(Obj& o) {
+    for (auto& [pn, item] : o.props)
+        if (!item.used)
+            note(fmt::format("unused {} {} {}", o.tag, o.type, pn), item.node,
+                 fmt::format("property '{}' of <{} type=\"{}\"> is not supported; ignored", pn,
+                             o.tag, o.type));
+    for (auto& item : o.nested)
+        if (!item.used)
+            note(fmt::format("unused nested {} {} {}", o.tag, o.type, item.node.name()), item.node,
+                 fmt::format("<{}> inside <{} type=\"{}\"> is not supported; ignored",
+                             item.node.name(), o.tag, o.type));
+}
+
+// The steps of a <transform>, in document order, each applied after the previous ones.
+glm::dmat4 Reader::transform(pugi::xml_node t) const {
+    glm::dmat4 m(1.0);
+    for (pugi::xml_node c : t.children()) {
+        if (c.type() != pugi::node_element) continue;
+        std::string_view tag = c.name();
+        glm::dmat4 step(1.0);
+        if (tag == "translate") {
+            glm::dvec3 v = vec3_attr(c, "value", glm::dvec3(0.0));
+            if (!c.attribute("value")) {
+                const char* axes[] = {"x", "y", "z"};
+                for (int k = 0; k < 3; ++k)
+                    if (auto s = attr(c, axes[k])) v[k] = number(c, axes[k], *s);
+            }
+            step = glm::translate(glm::dmat4(1.0), v);
+        } else if (tag == "scale") {
+            glm::dvec3 v(1.0);
+            if (auto s = attr(c, "value")) {
+                auto xs = numbers(c, "value", *s);
+                if (xs.size() == 1)
+                    v = glm::dvec3(xs[0]);
+                else if (xs.size() == 3)
+                    v = glm::dvec3(xs[0], xs[1], xs[2]);
+                else
+                    error(c, "value '{}': expected 1 or 3 numbers", *s);
+            } else {
+                const char* axes[] = {"x", "y", "z"};
+                for (int k = 0; k < 3; ++k)
+                    if (auto s = attr(c, axes[k])) v[k] = number(c, axes[k], *s);
+            }
+            step = glm::scale(glm::dmat4(1.0), v);
+        } else if (tag == "rotate") {
+            glm::dvec3 axis(0.0);
+            if (c.attribute("value")) {
+                axis = vec3_attr(c, "value", std::nullopt);
+            } else {
+                const char* axes[] = {"x", "y", "z"};
+                for (int k = 0; k < 3; ++k)
+                    if (auto s = attr(c, axes[k])) axis[k] = number(c, axes[k], *s);
+            }
+            double angle = number(c, "angle", required(c, "angle"));
+            if (glm::length(axis) == 0.0) error(c, "the rotation axis is zero");
+            step = glm::rotate(glm::dmat4(1.0), angle * kPi / 180.0, glm::normalize(axis));
+        } else if (tag == "matrix") {
+            std::string v = required(c, "value");
+            auto xs = numbers(c, "value", v);
+            if (xs.size() == 16) {
+                for (int r = 0; r < 4; ++r)
+                    for (int col = 0; col < 4; ++col)
+                        step[col][r] = xs[4 * r + col];
+            } else if (xs.size() == 9) {
+                for (int r = 0; r < 3; ++r)
+                    for (int col = 0; col < 3; ++col)
+                        step[col][r] = xs[3 * r + col];
+            } else {
+                error(c, "value: expected 16 (4 x 4) or 9 (3 x 3) numbers, row by row; got {}",
+                      xs.size());
+            }
+        } else if (tag == "lookat") {
+            glm::dvec3 origin = vec3_attr(c, "origin", std::nullopt);
+            glm::dvec3 target = vec3_attr(c, "target", std::nullopt);
+            glm::dvec3 dir = target - origin;
+            if (glm::length(dir) == 0.0) error(c, "origin and target coincide");
+            dir = glm::normalize(dir);
+            glm::dvec3 up;
+            if (c.attribute("up")) {
+                up = vec3_attr(c, "up", std::nullopt);
+            } else { // any up that is not parallel to dir
+                up = std::abs(dir.y) < 0.9 ? glm::dvec3(0, 1, 0) : glm::dvec3(1, 0, 0);
+            }
+            glm::dvec3 left = glm::cross(up, dir);
+            if (glm::length(left) < 1e-12 * std::max(1.0, glm::length(up)))
+                error(c, "'up' is zero or parallel to the viewing direction");
+            left = glm::normalize(left);
+            glm::dvec3 new_up = glm::cross(dir, left);
+            step = glm::dmat4(glm::dvec4(left, 0), glm::dvec4(new_up, 0), glm::dvec4(dir, 0),
+                              glm::dvec4(origin, 1));
+        }
+        m = step * m;
+    }
+    return m;
+}
+
+double Reader::positive(pugi::xml_node n, const char* what, double v) const {
+    if (!(v > 0.0)) error(n, "{} {} must be > 0", what, v);
+    return v;
+}
+
+// --- Scene parts ------------------------------------------------------------------------------
+
+void Reader::read_default(pugi::xml_node n) {
+    std::string name = required(n, "name");
+    if (!is_identifier(name))
+        error(n, "parameter name '{}' must consist of letters, digits and '_'", name);
+    std::string value = required(n, "value");
+    params_.try_emplace(name, value); // an override (or an earlier default) wins
+}
+
+void Reader::register_id(pugi::xml_node n) {
+    auto id = attr(n, "id");
+    if (!id) return;
+    if (id->empty()) error(n, "empty id");
+    auto [it, fresh] = ids_.try_emplace(*id, n);
+    if (!fresh) error(n, "id '{}' is already used at {}", *id, where(it->second));
+}
+
+void Reader::read_integrator(pugi::xml_node n) {
+    Obj o = collect(n);
+    const std::string& t = o.type;
+    if (t != "path" && t != "volpath" && t != "volpathmis")
+        note("integrator " + t, n,
+             fmt::format("integrator '{}' is not supported; wavepath's path tracer renders the "
+                         "scene with its max_depth",
+                         t));
+    long long md = get_int(o, "max_depth").value_or(-1);
+    int depth;
+    if (md < -1) {
+        error(n, "max_depth {} is out of range (-1 = unbounded, or >= 0)", md);
+    } else if (md == -1) {
+        depth = kUnboundedDepth;
+    } else if (md == 0) {
+        note("max_depth 0", n,
+             "max_depth 0 renders nothing in Mitsuba; wavepath shows the emitters (depth 0)");
+        depth = 0;
+    } else if (md - 1 > kUnboundedDepth) {
+        note("max_depth cap", n,
+             fmt::format("max_depth {} capped at {} bounces", md, kUnboundedDepth));
+        depth = kUnboundedDepth;
+    } else {
+        depth = int(md - 1);
+    }
+    scene_.render.depth = depth;
+    if (auto h = get_bool(o, "hide_emitters"); h && *h)
+        note("hide_emitters", n, "hide_emitters is not supported; emitters stay visible");
+    mark_used(o, {"rr_depth", "samples_per_pass", "timeout"});
+    finish(o);
+}
+
+void Reader::read_sensor(pugi::xml_node n) {
+    Obj o = collect(n);
+    if (o.type == "thinlens")
+        note("thinlens", n,
+             "sensor 'thinlens' is rendered as a pinhole camera (no depth of field)");
+    else if (o.type != "perspective")
+        note("sensor " + o.type, n,
+             fmt::format("sensor '{}' is not supported; rendered as a perspective camera", o.type));
+    glm::dmat4 m = get_transform(o, "to_world").value_or(glm::dmat4(1.0));
+
+    // Film and sampler (nested objects)
+    long long width = 768, height = 576;
+    for (auto& item : o.nested) {
+        std::string_view tag = item.node.name();
+        if (tag == "film") {
+            item.used = true;
+            Obj f = collect(item.node);
+            if (f.type != "hdrfilm" && f.type != "specfilm")
+                note("film " + f.type, item.node,
+                     fmt::format("film '{}' is read as an hdrfilm (width, height)", f.type));
+            if (auto w = get_int(f, "width")) width = *w;
+            if (auto h = get_int(f, "height")) height = *h;
+            auto* wprop = prop(f, "width", {"integer"}, "an integer");
+            if (width < 1 || width > kMaxFilmSide || height < 1 || height > kMaxFilmSide ||
+                width * height > kMaxFilmPixels)
+                error(wprop ? wprop->node : item.node,
+                      "film size {} x {} is out of range (each side 1..{}, at most 2^26 pixels)",
+                      width, height, kMaxFilmSide);
+            mark_used(f, {"file_format", "pixel_format", "component_format", "banner",
+                          "sample_border", "compensate", "high_quality_edges"});
+            for (auto& fi : f.nested) {
+                if (std::string_view(fi.node.name()) != "rfilter") continue;
+                fi.used = true;
+                Obj r = collect(fi.node);
+                if (r.type != "box")
+                    note("rfilter", fi.node,
+                         fmt::format("reconstruction filter '{}' ignored: wavepath box-filters "
+                                     "each pixel",
+                                     r.type));
+                skip(r);
+            }
+            finish(f);
+        } else if (tag == "sampler") {
+            item.used = true;
+            Obj s = collect(item.node);
+            if (auto c = get_int(s, "sample_count")) {
+                if (*c < 1 || *c > kMaxSpp)
+                    error(prop(s, "sample_count", {"integer"}, "")->node,
+                          "sample_count {} is out of range (1..2^24)", *c);
+                scene_.render.spp = int(*c);
+            }
+            if (auto seed = get_int(s, "seed")) {
+                if (*seed < 0) error(prop(s, "seed", {"integer"}, "")->node, "seed must be >= 0");
+                scene_.render.seed = std::uint32_t(*seed);
+            }
+            skip(s); // sampler types and their options do not change the expectation
+        }
+    }
+
+    // Field of view → vertical fov
+    const double aspect = double(width) / double(height);
+    auto fov = get_float(o, "fov");
+    auto focal = get_string(o, "focal_length");
+    if (fov && focal) error(n, "give either fov or focal_length, not both");
+    std::string axis = lower(get_string(o, "fov_axis").value_or("x"));
+    double f;
+    if (fov) {
+        f = *fov;
+    } else {
+        std::string s = focal.value_or("50mm");
+        if (s.size() > 2 && s.substr(s.size() - 2) == "mm") s.resize(s.size() - 2);
+        double mm = positive(n, "focal_length", number(n, "focal_length", s));
+        f = 2.0 * std::atan(std::sqrt(36.0 * 36.0 + 24.0 * 24.0) / (2.0 * mm)) * 180.0 / kPi;
+        axis = "diagonal";
+    }
+    if (!(f > 0.0 && f < 180.0)) error(n, "fov {} is out of range (0, 180) degrees", f);
+    if (axis == "smaller") axis = aspect > 1.0 ? "y" : "x";
+    if (axis == "larger") axis = aspect > 1.0 ? "x" : "y";
+    const double t = std::tan(0.5 * f * kPi / 180.0);
+    double tv; // tan(vfov / 2)
+    if (axis == "x")
+        tv = t / aspect;
+    else if (axis == "y")
+        tv = t;
+    else if (axis == "diagonal")
+        tv = t / std::sqrt(1.0 + aspect * aspect);
+    else
+        error(n, "fov_axis '{}' is not one of x, y, smaller, larger, diagonal", axis);
+    const float vfov = float(2.0 * std::atan(tv) * 180.0 / kPi);
+    if (!(vfov > 0.0f && vfov < 180.0f)) error(n, "vertical fov {} is out of range", vfov);
+
+    for (const char* pp : {"principal_point_offset_x", "principal_point_offset_y"})
+        if (auto v = get_float(o, pp); v && *v != 0.0)
+            note("principal point", n, "principal_point_offset is not supported; ignored");
+    mark_used(o, {"near_clip", "far_clip", "focus_distance", "aperture_radius", "srf",
+                  "shutter_open", "shutter_close"});
+
+    // Camera from the matrix: column 2 forward, column 1 up, column 0 left
+    glm::dvec3 dir(m[2]), up(m[1]), left(m[0]);
+    if (!(glm::length(dir) > 0.0)) error(n, "to_world has no viewing direction (column 2 is 0)");
+    if (!(glm::length(glm::cross(dir, up)) > 1e-12 * glm::length(dir) * glm::length(up)))
+        error(n, "to_world's up (column 1) is zero or parallel to the viewing direction");
+    if (glm::dot(left, glm::cross(up, dir)) < 0.0)
+        note(
+            "mirrored sensor", n,
+            "the sensor's to_world mirrors the image (column 0 points right); rendered unmirrored");
+    scene_.camera = camera_from_matrix(glm::mat4(m), vfov, int(width), int(height));
+    camera_to_world_ = m;
+    finish(o);
+}
+
+// A BSDF element to the nearest wavepath material (table in mitsuba_loader.h).
+Material Reader::read_bsdf(pugi::xml_node n, int depth, bool two_sided) {
+    if (depth > kMaxBsdfNesting) error(n, "BSDFs are nested more than {} deep", kMaxBsdfNesting);
+    Obj o = collect(n);
+    const std::string& t = o.type;
+    Material m;
+    m.name = attr(n, "id").value_or(t);
+    auto one_sided = [&] {
+        if (!two_sided)
+            note("one-sided", n,
+                 "a reflecting BSDF outside <bsdf type=\"twosided\"> is one-sided in Mitsuba "
+                 "(black from behind); wavepath treats it as two-sided");
+    };
+    // The nested BSDFs (inline or by reference), in order
+    auto nested_bsdfs = [&](std::size_t need) {
+        std::vector<Material> out;
+        for (auto& item : o.nested) {
+            std::string_view tag = item.node.name();
+            if (tag == "bsdf") {
+                item.used = true;
+                out.push_back(read_bsdf(item.node, depth + 1, two_sided || t == "twosided"));
+            } else if (tag == "ref") {
+                std::string id = required(item.node, "id");
+                if (!bsdfs_.count(id) && !ids_.count(id))
+                    error(item.node, "no <bsdf id=\"{}\"> is defined before this point", id);
+                if (bsdfs_.count(id)) {
+                    item.used = true;
+                    out.push_back(bsdf_ref(item.node, id));
+                }
+            }
+        }
+        if (out.size() < need)
+            error(n, "needs {} nested <bsdf> (inline or <ref>), found {}", need, out.size());
+        return out;
+    };
+
+    if (t == "twosided") {
+        auto inner = nested_bsdfs(1);
+        if (inner.size() > 1)
+            note("twosided back", n,
+                 "twosided with a different back-side BSDF: both sides use the first one");
+        m = inner[0];
+    } else if (t == "diffuse") {
+        m.kind = MaterialKind::Diffuse;
+        m.albedo = reflectance(o, "reflectance", 0.5f);
+        one_sided();
+    } else if (t == "conductor" || t == "roughconductor") {
+        glm::vec3 f0(1.0f);
+        auto eta = get_color(o, "eta");
+        auto k = get_color(o, "k");
+        auto material = get_string(o, "material");
+        if (eta || k) {
+            if (material) error(n, "give either eta/k or material, not both");
+            glm::vec3 e = eta.value_or(glm::vec3(0.0f)), kk = k.value_or(glm::vec3(1.0f));
+            if (glm::any(glm::lessThan(e, glm::vec3(0.0f))) ||
+                glm::any(glm::lessThan(kk, glm::vec3(0.0f))))
+                error(n, "eta and k must be >= 0");
+            f0 = fresnel_f0(e, kk);
+        } else if (material && *material != "none") {
+            auto it = std::find_if(std::begin(kMetals), std::end(kMetals),
+                                   [&](const Metal& x) { return x.name == *material; });
+            if (it != std::end(kMetals)) {
+                f0 = fresnel_f0(it->eta, it->k);
+            } else {
+                note("metal " + *material, n,
+                     fmt::format("conductor material '{}' is not in wavepath's table of metals; "
+                                 "reflectance 1 is used",
+                                 *material));
+            }
+        }
+        m.albedo = glm::clamp(reflectance(o, "specular_reflectance", 1.0f) * f0, 0.0f, 1.0f);
+        m.kind = MaterialKind::Mirror;
+        if (t == "roughconductor") {
+            double alpha;
+            auto a = get_float(o, "alpha");
+            auto au = get_float(o, "alpha_u"), av = get_float(o, "alpha_v");
+            if (au || av) {
+                if (!(au && av)) error(n, "alpha_u and alpha_v must be given together");
+                if (a) error(n, "give either alpha or alpha_u/alpha_v");
+                if (*au < 0.0 || *av < 0.0) error(n, "alpha_u and alpha_v must be >= 0");
+                alpha = std::sqrt(*au * *av);
+                note("anisotropic", n,
+                     "anisotropic roughness (alpha_u, alpha_v) is rendered isotropic with "
+                     "alpha = sqrt(alpha_u alpha_v)");
+            } else {
+                alpha = a.value_or(0.1);
+                if (alpha < 0.0) error(n, "alpha {} must be >= 0", alpha);
+            }
+            std::string dist = lower(get_string(o, "distribution").value_or("beckmann"));
+            if (dist == "beckmann")
+                note("beckmann", n,
+                     "roughconductor distribution 'beckmann' is rendered as GGX with the same "
+                     "alpha");
+            else if (dist != "ggx")
+                error(n, "distribution '{}' is not beckmann or ggx", dist);
+            if (alpha > 1.0) {
+                note("alpha > 1", n, "alpha above 1 is clamped to 1");
+                alpha = 1.0;
+            }
+            if (alpha >= 1e-4) {
+                m.kind = MaterialKind::Glossy;
+                m.exponent = float(2.0 / (alpha * alpha) - 2.0);
+            } else {
+                note("alpha 0", n, "roughconductor with alpha < 1e-4 is rendered as a mirror");
+            }
+            mark_used(o, {"sample_visible"});
+        }
+        one_sided();
+    } else if (t == "dielectric" || t == "thindielectric" || t == "roughdielectric") {
+        auto ior_of = [&](const char* name, double def) {
+            auto* p = prop(o, name, {"float", "integer", "string"}, "a number or a material name");
+            if (!p) return def;
+            std::string v = required(p->node, "value");
+            if (std::string_view(p->node.name()) == "string") {
+                std::string lv = lower(v);
+                for (const NamedIor& x : kIors)
+                    if (x.name == lv) return x.ior;
+                error(p->node,
+                      "unknown index of refraction '{}' (known: vacuum, air, water, "
+                      "bk7, diamond, ... see mitsuba_loader.h)",
+                      v);
+            }
+            double x = number(p->node, "value", v);
+            if (!(x > 0.0)) error(p->node, "{} {} must be > 0", name, x);
+            return x;
+        };
+        double int_ior = ior_of("int_ior", 1.5046), ext_ior = ior_of("ext_ior", 1.000277);
+        if (auto eta = get_float(o, "eta")) int_ior = positive(n, "eta", *eta), ext_ior = 1.0;
+        m.kind = MaterialKind::Glass;
+        const double ior = int_ior / ext_ior;
+        if (!(ior >= 0.01 && ior <= 100.0))
+            error(n, "int_ior / ext_ior = {} is out of range [0.01, 100]", ior);
+        m.ior = float(ior);
+        m.albedo = reflectance(o, "specular_transmittance", 1.0f);
+        if (auto r = get_color(o, "specular_reflectance"); r && *r != glm::vec3(1.0f))
+            note("glass reflectance", n,
+                 "dielectric specular_reflectance other than 1 is not supported; ignored");
+        if (t != "dielectric")
+            note("bsdf " + t, n,
+                 fmt::format("bsdf '{}' is rendered as a smooth dielectric (glass)", t));
+        mark_used(o, {"alpha", "alpha_u", "alpha_v", "distribution", "sample_visible"});
+    } else if (t == "plastic" || t == "roughplastic") {
+        m.kind = MaterialKind::Diffuse;
+        m.albedo = reflectance(o, "diffuse_reflectance", 0.5f);
+        note("bsdf " + t, n,
+             fmt::format("bsdf '{}' is rendered as diffuse with its diffuse_reflectance (the "
+                         "specular coating is dropped)",
+                         t));
+        skip(o);
+        one_sided();
+    } else if (t == "principled" || t == "principledthin") {
+        m.kind = MaterialKind::Diffuse;
+        m.albedo = reflectance(o, "base_color", 0.5f);
+        note("bsdf " + t, n,
+             fmt::format("bsdf '{}' is rendered as diffuse with its base_color", t));
+        skip(o);
+    } else if (t == "blendbsdf" || t == "mask" || t == "bumpmap" || t == "normalmap") {
+        auto inner = nested_bsdfs(1);
+        m = inner[0];
+        note("bsdf " + t, n,
+             fmt::format("bsdf '{}' is not supported; its first nested BSDF is used", t));
+        skip(o);
+    } else if (t == "null") {
+        m.kind = MaterialKind::Diffuse;
+        m.albedo = glm::vec3(0.0f);
+        note("bsdf null", n, "bsdf 'null' (invisible surface) is rendered as black diffuse");
+    } else {
+        m.kind = MaterialKind::Diffuse;
+        m.albedo = glm::vec3(0.5f);
+        note("bsdf " + t, n, fmt::format("bsdf '{}' is not supported; rendered as diffuse 0.5", t));
+        skip(o);
+    }
+    m.emission = glm::vec3(0.0f);
+    finish(o);
+    return m;
+}
+
+Material Reader::bsdf_ref(pugi::xml_node ref, const std::string& id) {
+    auto it = bsdfs_.find(id);
+    if (it == bsdfs_.end()) error(ref, "no <bsdf id=\"{}\"> is defined before this point", id);
+    return it->second.material;
+}
+
+const Mesh& Reader::mesh_file(pugi::xml_node n, const std::string& filename) {
+    fs::path p(filename);
+    if (p.is_relative()) p = dir_ / p;
+    std::string key = p.lexically_normal().string();
+    if (auto it = mesh_cache_.find(key); it != mesh_cache_.end()) return it->second;
+    std::error_code ec;
+    if (!fs::exists(p, ec)) error(n, "mesh file '{}' not found", p.string());
+    if (!fs::is_regular_file(p, ec)) error(n, "mesh file '{}' is not a regular file", p.string());
+    Scene s;
+    try {
+        s = load_mesh_file(p);
+    } catch (const Error& e) {
+        error(n, "{}", e.what());
+    }
+    // The mesh file's own materials are not used (Mitsuba ignores them too), so its note
+    // about triangles without a material does not apply.
+    for (auto& w : s.warnings)
+        if (w.find("have no material") == std::string::npos) scene_.warnings.push_back(w);
+    Mesh m{std::move(s.positions), std::move(s.triangles)};
+    return mesh_cache_.emplace(key, std::move(m)).first->second;
+}
+
+// The material of a shape: its BSDF (nested or <ref>), else Mitsuba's default diffuse 0.5;
+// with an area emitter, a copy of it that emits.
+std::uint32_t Reader::shape_material(Obj& o, std::optional<glm::vec3> emission) {
+    std::optional<Material> mat;
+    std::string named; // id of a referenced BSDF
+    for (auto& item : o.nested) {
+        std::string_view tag = item.node.name();
+        if (tag != "bsdf" && tag != "ref") continue;
+        std::string id;
+        if (tag == "ref") {
+            id = required(item.node, "id");
+            if (!bsdfs_.count(id)) {
+                if (ids_.count(id)) continue; // a reference to something else: reported later
+                error(item.node, "no <bsdf id=\"{}\"> is defined before this point", id);
+            }
+        }
+        item.used = true;
+        if (mat) {
+            note("two bsdfs", item.node, "a shape with more than one BSDF uses the first");
+            continue;
+        }
+        if (tag == "ref") {
+            mat = bsdf_ref(item.node, id);
+            named = id;
+        } else {
+            mat = read_bsdf(item.node, 1, false);
+        }
+    }
+    if (emission) {
+        Material m = mat.value_or(Material{});
+        if (!mat) {
+            m.kind = MaterialKind::Diffuse;
+            m.albedo = glm::vec3(0.5f);
+        }
+        m.emission = *emission;
+        m.name = attr(o.node, "id").value_or(fmt::format("emitter {}", emitter_shapes_));
+        ++emitter_shapes_;
+        return scene_.add_material(m);
+    }
+    if (!named.empty()) {
+        NamedBsdf& b = bsdfs_.at(named);
+        if (!b.id) b.id = scene_.add_material(b.material);
+        return *b.id;
+    }
+    if (mat) return scene_.add_material(*mat);
+    if (!default_material_) {
+        Material d;
+        d.name = "default (diffuse 0.5)";
+        d.kind = MaterialKind::Diffuse;
+        d.albedo = glm::vec3(0.5f);
+        default_material_ = scene_.add_material(d);
+    }
+    return *default_material_;
+}
+
+void Reader::add_geometry(pugi::xml_node n, Mesh mesh, const glm::dmat4& m, bool flip,
+                          std::uint32_t material) {
+    if (scene_.triangles.size() + mesh.triangles.size() > kMaxTriangles)
+        error(n, "the scene would have more than {} triangles", kMaxTriangles);
+    Mesh t = wp::transform(mesh, glm::mat4(m));
+    if (flip) flip_winding(t);
+    for (const auto& p : t.positions)
+        if (!std::isfinite(p.x) || !std::isfinite(p.y) || !std::isfinite(p.z))
+            error(n, "to_world maps a vertex to a non-finite position");
+    scene_.add_mesh(t.positions, t.triangles, material);
+}
+
+// Unit meshes of the analytic shapes, tessellated once.
+const Mesh& unit_sphere() {
+    static const Mesh sphere = [] {
+        Mesh s = make_icosphere(glm::vec3(0.0f), 1.0f, kSphereSubdivisions);
+        double area = 0.0;
+        for (const auto& t : s.triangles) {
+            glm::dvec3 a(s.positions[t.x]), b(s.positions[t.y]), c(s.positions[t.z]);
+            area += 0.5 * glm::length(glm::cross(b - a, c - a));
+        }
+        const float k = float(std::sqrt(4.0 * kPi / area)); // area-preserving radius
+        for (auto& p : s.positions)
+            p *= k;
+        return s;
+    }();
+    return sphere;
+}
+
+Mesh unit_disk() {
+    const int n = kRoundSegments;
+    // The regular n-gon of area π: (n/2) r² sin(2π/n) = π
+    const double r = std::sqrt(kPi / (0.5 * n * std::sin(2.0 * kPi / n)));
+    Mesh d;
+    d.positions.push_back(glm::vec3(0.0f));
+    for (int i = 0; i < n; ++i) {
+        double a = 2.0 * kPi * i / n;
+        d.positions.push_back(glm::vec3(float(r * std::cos(a)), float(r * std::sin(a)), 0.0f));
+    }
+    for (int i = 0; i < n; ++i)
+        d.triangles.push_back(glm::uvec3(0, 1 + i, 1 + (i + 1) % n)); // counter-clockwise from +z
+    return d;
+}
+
+// Open tube of radius 1 (area-preserving: perimeter 2π) from z = 0 to z = 1, normals outward.
+Mesh unit_tube() {
+    const int n = kRoundSegments;
+    const double r = kPi / (n * std::sin(kPi / n));
+    Mesh c;
+    for (int z = 0; z < 2; ++z)
+        for (int i = 0; i < n; ++i) {
+            double a = 2.0 * kPi * i / n;
+            c.positions.push_back(
+                glm::vec3(float(r * std::cos(a)), float(r * std::sin(a)), float(z)));
+        }
+    for (std::uint32_t i = 0; i < std::uint32_t(n); ++i) {
+        std::uint32_t j = (i + 1) % n, bi = i, bj = j, ti = i + n, tj = j + n;
+        c.triangles.push_back({bi, bj, tj});
+        c.triangles.push_back({bi, tj, ti});
+    }
+    return c;
+}
+
+void Reader::read_shape(pugi::xml_node n) {
+    Obj o = collect(n);
+    const std::string& t = o.type;
+    static const char* const kShapes[] = {"obj",    "ply",  "rectangle", "cube",
+                                          "sphere", "disk", "cylinder"};
+    if (std::find(std::begin(kShapes), std::end(kShapes), t) == std::end(kShapes)) {
+        note("shape " + t, n, fmt::format("shape '{}' is not supported; skipped", t));
+        ++skipped_shapes_;
+        skip(o);
+        return;
+    }
+    glm::dmat4 m = get_transform(o, "to_world").value_or(glm::dmat4(1.0));
+    const bool flip = get_bool(o, "flip_normals").value_or(false);
+    mark_used(o, {"face_normals", "flip_tex_coords"});
+
+    // Geometry in the shape's own space, and the matrix to the world
+    Mesh mesh;
+    if (t == "obj" || t == "ply") {
+        auto filename = get_string(o, "filename");
+        if (!filename) error(n, "missing <string name=\"filename\" value=\"...\"/>");
+        mesh = mesh_file(n, *filename);
+    } else if (t == "rectangle") {
+        mesh = make_quad(glm::vec3(-1, -1, 0), glm::vec3(2, 0, 0), glm::vec3(0, 2, 0));
+    } else if (t == "cube") {
+        mesh = make_box(glm::vec3(-1.0f), glm::vec3(1.0f), 1);
+    } else if (t == "sphere") {
+        glm::dvec3 c = get_point(o, "center").value_or(glm::dvec3(0.0));
+        double r = get_float(o, "radius").value_or(1.0);
+        if (!(r > 0.0)) error(n, "radius {} must be > 0", r);
+        m = m * glm::translate(glm::dmat4(1.0), c) * glm::scale(glm::dmat4(1.0), glm::dvec3(r));
+        mesh = unit_sphere();
+    } else if (t == "disk") {
+        mesh = unit_disk();
+    } else if (t == "cylinder") {
+        glm::dvec3 p0 = get_point(o, "p0").value_or(glm::dvec3(0.0));
+        glm::dvec3 p1 = get_point(o, "p1").value_or(glm::dvec3(0, 0, 1));
+        double r = get_float(o, "radius").value_or(1.0);
+        if (!(r > 0.0)) error(n, "radius {} must be > 0", r);
+        glm::dvec3 d = p1 - p0;
+        if (!(glm::length(d) > 0.0)) error(n, "p0 and p1 coincide");
+        glm::dvec3 w = glm::normalize(d);
+        glm::dvec3 u = glm::normalize(
+            glm::cross(std::abs(w.x) < 0.9 ? glm::dvec3(1, 0, 0) : glm::dvec3(0, 1, 0), w));
+        glm::dvec3 v = glm::cross(w, u); // (u, v, w) right-handed
+        glm::dmat4 frame(glm::dvec4(u * r, 0), glm::dvec4(v * r, 0), glm::dvec4(d, 0),
+                         glm::dvec4(p0, 1));
+        m = m * frame;
+        mesh = unit_tube();
+    }
+
+    // Emitter (area lights) and material
+    std::optional<glm::vec3> emission;
+    for (auto& item : o.nested) {
+        if (std::string_view(item.node.name()) != "emitter") continue;
+        item.used = true;
+        Obj e = collect(item.node);
+        if (e.type != "area") {
+            note("shape emitter " + e.type, item.node,
+                 fmt::format("emitter '{}' inside a shape is not supported; ignored", e.type));
+            skip(e);
+            continue;
+        }
+        if (emission) {
+            note("two emitters", item.node, "a shape with more than one emitter uses the first");
+            skip(e);
+            continue;
+        }
+        glm::vec3 l = get_color(e, "radiance").value_or(glm::vec3(1.0f));
+        if (glm::any(glm::lessThan(l, glm::vec3(0.0f))))
+            error(item.node, "radiance ({}, {}, {}) must be >= 0", l.x, l.y, l.z);
+        emission = l;
+        finish(e);
+    }
+    std::uint32_t material = shape_material(o, emission);
+    add_geometry(n, std::move(mesh), m, flip, material);
+    finish(o);
+}
+
+void Reader::read_emitter(pugi::xml_node n) {
+    Obj o = collect(n);
+    if (o.type == "constant") {
+        glm::vec3 l = get_color(o, "radiance").value_or(glm::vec3(1.0f));
+        if (glm::any(glm::lessThan(l, glm::vec3(0.0f))))
+            error(n, "radiance ({}, {}, {}) must be >= 0", l.x, l.y, l.z);
+        scene_.background += l;
+        finish(o);
+        return;
+    }
+    if (o.type == "area")
+        note("area outside shape", n,
+             "an area emitter outside a <shape> has nothing to emit from; ignored");
+    else
+        note("emitter " + o.type, n,
+             fmt::format("emitter '{}' is not supported; skipped (wavepath has area lights "
+                         "and a constant background)",
+                         o.type));
+    skip(o);
+}
+
+Scene Reader::read() {
+    // Parse: pugixml copies the buffer; offsets stay those of the text (no conversion).
+    pugi::xml_document doc;
+    pugi::xml_parse_result res =
+        doc.load_buffer(text_.data(), text_.size(), pugi::parse_default, pugi::encoding_utf8);
+    if (!res) {
+        auto [line, col] = line_col(res.offset);
+        fail("{}:{}:{}: malformed XML: {}", file_, line, col, res.description());
+    }
+    pugi::xml_node root = doc.document_element();
+    if (!root) fail("{}: no root element (expected <scene version=\"3.0.0\">)", file_);
+    if (std::string_view(root.name()) != "scene")
+        fail("{}: {}: the root element must be <scene>", where(root), describe(root));
+    check_structure(root);
+    scene_.name = fs::path(file_).filename().string();
+    if (scene_.name.empty()) scene_.name = file_;
+
+    // Version: Mitsuba 3 requires it; older files used other parameter names
+    std::string version = required(root, "version");
+    {
+        int major = 0;
+        auto [end, ec] = std::from_chars(version.data(), version.data() + version.size(), major);
+        if (ec != std::errc()) error(root, "version '{}' is not a version number", version);
+        if (major < 2)
+            note("version", root,
+                 fmt::format("version {} predates Mitsuba 2; its parameters are read with "
+                             "Mitsuba 3's names",
+                             version));
+    }
+    scene_.render.depth = kUnboundedDepth; // Mitsuba's default integrator: path, max_depth -1
+
+    // Top-level elements in document order
+    for (pugi::xml_node c : root.children()) {
+        if (c.type() != pugi::node_element) continue;
+        std::string_view tag = c.name();
+        const TagInfo* info = tag_info(tag);
+        if (info->kind == TagKind::Default) {
+            read_default(c);
+            continue;
+        }
+        if (info->kind == TagKind::Object) register_id(c);
+        if (tag == "integrator") {
+            read_integrator(c);
+        } else if (tag == "sensor") {
+            if (have_sensor_) {
+                note("second sensor", c, "more than one sensor: the first is used");
+                continue;
+            }
+            have_sensor_ = true;
+            read_sensor(c);
+        } else if (tag == "bsdf") {
+            Material m = read_bsdf(c, 1, false);
+            if (auto id = attr(c, "id"))
+                bsdfs_[*id] = NamedBsdf{m, std::nullopt};
+            else
+                note("anonymous bsdf", c, "a top-level <bsdf> without an id is never used");
+        } else if (tag == "texture") {
+            if (auto id = attr(c, "id")) textures_[*id] = c;
+        } else if (tag == "shape") {
+            read_shape(c);
+        } else if (tag == "emitter") {
+            read_emitter(c);
+        } else if (info->kind == TagKind::Unsupported) {
+            note(fmt::format("unsupported <{}>", tag), c,
+                 fmt::format("<{}> is not supported; ignored", tag));
+        } else {
+            note(fmt::format("top-level <{}>", tag), c,
+                 fmt::format("<{}> at the top level is not supported; ignored", tag));
+        }
+    }
+
+    if (scene_.triangles.empty())
+        fail("{}: no shape that wavepath can render ({} skipped)", file_, skipped_shapes_);
+    if (!have_sensor_) {
+        scene_.camera = frame_bounds(scene_.bounds());
+        note("no sensor", root,
+             "no <sensor>: the camera frames the scene from +z (800 x 600, 40 degrees)");
+    }
+    for (const Note& nt : notes_)
+        scene_.warnings.push_back(nt.count == 1 ? fmt::format("{}: {}", nt.where, nt.text)
+                                                : fmt::format("{}: {} ({} times; the first here)",
+                                                              nt.where, nt.text, nt.count));
+    validate_scene(scene_);
+    return std::move(scene_);
+}
+
+} // namespace
+
+Scene parse_mitsuba(std::string_view xml, const fs::path& origin, const MitsubaParams& params) {
+    Reader r(xml, origin, params);
+    return r.read();
+}
+
+Scene parse_mitsuba(std::string_view xml, const fs::path& origin) {
+    return parse_mitsuba(xml, origin, {});
+}
+
+Scene load_mitsuba(const fs::path& path, const MitsubaParams& params) {
+    std::error_code ec;
+    if (!fs::exists(path, ec)) fail("cannot open '{}': no such file", path.string());
+    if (!fs::is_regular_file(path, ec)) fail("cannot open '{}': not a regular file", path.string());
+    auto size = fs::file_size(path, ec);
+    if (ec) fail("cannot read '{}': {}", path.string(), ec.message());
+    if (size > kMaxFileBytes)
+        fail("'{}': {} bytes is larger than the {} MiB a scene file may have", path.string(), size,
+             kMaxFileBytes >> 20);
+    std::ifstream in(path, std::ios::binary);
+    if (!in) fail("cannot open '{}'", path.string());
+    std::ostringstream ss;
+    ss << in.rdbuf();
+    if (in.bad()) fail("cannot read '{}'", path.string());
+    std::string text = ss.str();
+    return parse_mitsuba(text, path, params);
+}
+
+Scene load_mitsuba(const fs::path& path) {
+    return load_mitsuba(path, {});
+}
+
+} // namespace wp

@@ -1,14 +1,109 @@
 // mitsuba_loader.h — Mitsuba 3 scene XML, the subset the classic research scenes use (pugixml).
-// (Interface stub: the full contract is written with the implementation.)
+//
+// Reads the scene files of Bitterli's rendering resources and similar research scenes into a
+// Scene: one perspective sensor, meshes and analytic shapes with their to_world transforms,
+// the common BSDFs, area and constant emitters, the integrator's depth and the sample count.
+//
+// Parameters. `<default name="N" value="V"/>` (a child of <scene>) defines $N unless an
+// override (the `params` argument, like `mitsuba -D N=V`) already did. Every attribute value
+// may use `$N` (the longest run of letters, digits and '_' after '$'); a reference to an
+// undefined parameter, or a '$' with no name, is an error. Parameters are read in document
+// order, as Mitsuba does: a $N used before its <default> is undefined.
+//
+// Sensor (the first <sensor>; others are ignored with a warning):
+//   perspective (thinlens: the same without depth of field, with a warning). to_world: its
+//   column 2 is the viewing direction, column 1 up, column 0 points to the image's left (a
+//   matrix whose column 0 points right would mirror the image: warning, rendered unmirrored).
+//   fov with fov_axis x (Mitsuba's default), y, smaller, larger or diagonal, or
+//   focal_length "Nmm" (36 x 24 mm film, diagonal fov) → wavepath's vertical fov.
+//   film width/height (defaults 768 x 576) → camera size; sampler sample_count → render.spp,
+//   seed → render.seed. near_clip/far_clip are accepted and ignored; a reconstruction filter
+//   other than box is ignored with a warning (wavepath box-filters each pixel).
+//   No sensor: the camera frames the scene's bounding box from +z (800 x 600, 40° vertical).
+// Integrator: max_depth N (Mitsuba: N path segments) → render.depth = N − 1 bounces.
+//   max_depth −1 (unbounded, also Mitsuba's default when the integrator or max_depth is
+//   absent) → 64 bounces; Russian roulette ends almost every path long before that, so
+//   the cost is that of the paths that matter. max_depth > 65 is capped at 64 bounces (warning),
+//   max_depth 0 (Mitsuba renders black) → depth 0 (warning). Types other than path, volpath,
+//   volpathmis: warning (wavepath's path tracer renders them).
+// Shapes (to_world = matrix, translate, rotate, scale, lookat, composed in document order:
+//   each new one is applied after the previous ones, M = new · M):
+//   obj, ply      `filename` relative to the XML file's folder, through load_mesh_file (the
+//                 mesh file's own materials are ignored, as Mitsuba does; flip_normals honoured)
+//   rectangle     [−1, 1]² in the z = 0 plane, normal +z (2 triangles)
+//   cube          [−1, 1]³, normals outward (12 triangles)
+//   sphere        center, radius (then to_world): an icosphere of 5,120 triangles whose radius
+//                 is scaled so that its area is 4πr² (an emitter keeps its power)
+//   disk          radius 1 in z = 0, normal +z: 128 segments, area π
+//   cylinder      p0, p1, radius (open tube, normals outward): 128 segments, area 2πrh
+//   Other shape types (serialized, shapegroup, instance, ...) are skipped with a warning.
+//   A shape without a BSDF gets Mitsuba's default, diffuse 0.5.
+// BSDFs (by nesting or <ref id>; wavepath materials shade both sides):
+//   twosided(X)             X (a second, back-side BSDF is dropped with a warning)
+//   diffuse                 Diffuse, albedo = reflectance (default 0.5)
+//   conductor               Mirror, albedo = specular_reflectance × F0(η, k), F0 the
+//                           normal-incidence Fresnel reflectance ((η−1)² + k²)/((η+1)² + k²)
+//                           from eta/k, or from `material` (default "none" = 1) in the metal
+//                           table below; an unknown material: warning and F0 = 1
+//   roughconductor          Glossy, same albedo, exponent = 2/α² − 2 (α = alpha, default
+//                           0.1; alpha_u/alpha_v: geometric mean, warning; α > 1 → 1;
+//                           α < 1e-4 → Mirror); distribution beckmann (Mitsuba's default) →
+//                           GGX with the same α, one warning
+//   dielectric              Glass, ior = int_ior / ext_ior (numbers or names: vacuum,
+//                           helium, hydrogen, air, carbon dioxide, water, acetone, ethanol,
+//                           carbon tetrachloride, glycerol, benzene, silicone oil, bromine,
+//                           water ice, fused quartz, pyrex, acrylic glass, polypropylene,
+//                           bk7, sodium chloride, amber, pet, diamond; defaults bk7 / air),
+//                           albedo = specular_transmittance
+//   thindielectric, roughdielectric → Glass (warning)
+//   plastic, roughplastic, principled → Diffuse with diffuse_reflectance / base_color (warning)
+//   blendbsdf, mask, bumpmap, normalmap → their first nested BSDF (warning)
+//   null → black Diffuse (warning); anything else → Diffuse 0.5 (warning)
+//   A reflecting BSDF that is not inside twosided is one-sided in Mitsuba (black from
+//   behind); wavepath shades it on both sides: one warning. Textures in place of a colour:
+//   checkerboard → the mean of color0/color1, others 0.5 (warning).
+//   Metals (RGB η, k fitted by Tungsten's ComplexIorData.hpp from the spectral data Mitsuba
+//   uses): Ag, Al, Au, Be, Cr, Cu, Hg, Ir, K, Li, Mo, Rh, Ta, TiN, VN, W, Na_palik, Ni_palik.
+// Emitters: area (inside a shape): radiance → emission of a material made for that shape
+//   (front side = the shape's normal side). constant (top level): radiance → background
+//   (several add up). Others (point, spot, directional, envmap, ...) are skipped (warning).
+// Colours: <rgb value="r, g, b"> or one value, <spectrum value="v"> (or "λ:v, ..." pairs:
+//   their mean, warning), <float>. Reflectances must lie in [0, 1], radiances be >= 0.
+//
+// Warnings: every element, property or value that is not represented exactly gets a warning
+// naming file:line:column, aggregated: one line per kind ("... (5 times; the first here)").
+// Errors (wp::Error, one message "FILE:LINE:COL: <element ...>: problem"): malformed XML
+// (pugixml's message at its line:column), an element that is not part of Mitsuba's format
+// (known but unsupported ones such as <include>, <medium> only warn), an attribute the
+// element does not take, a missing required attribute, an undefined $parameter, a value
+// that is not a number or out of range (fov outside (0, 180), film size outside
+// [1, 16384] or over 2^26 pixels, sample_count outside [1, 2^24], negative radius, ...),
+// a <ref> to an undefined id, a duplicate id, a mesh file that is missing or fails to load,
+// more than 2^25 triangles in all, BSDF nesting deeper than 16, element nesting deeper than
+// 64, an attribute that expands to over 64 KiB, int_ior / ext_ior outside [0.01, 100].
+// Nothing is printed; the result has passed validate_scene.
 #pragma once
 
 #include <filesystem>
+#include <map>
+#include <string>
 #include <string_view>
 
 #include "scene/scene.h"
 
 namespace wp {
 
-Scene load_mitsuba(const std::filesystem::path& path);
+// $parameters set from outside the file (as Mitsuba's -D NAME=VALUE); they win over <default>.
+using MitsubaParams = std::map<std::string, std::string>;
 
-}  // namespace wp
+// Reads the file and parses it; relative mesh paths resolve against the file's folder.
+Scene load_mitsuba(const std::filesystem::path& path);
+Scene load_mitsuba(const std::filesystem::path& path, const MitsubaParams& params);
+
+// Parses XML held in memory. `origin` names the file in messages and its folder is where
+// relative filenames resolve. Never writes files; returns a Scene or throws wp::Error.
+Scene parse_mitsuba(std::string_view xml, const std::filesystem::path& origin);
+Scene parse_mitsuba(std::string_view xml, const std::filesystem::path& origin,
+                    const MitsubaParams& params);
+
+} // namespace wp

@@ -4,6 +4,7 @@
 #include <charconv>
 #include <cmath>
 #include <fstream>
+#include <map>
 #include <sstream>
 #include <string_view>
 
@@ -15,6 +16,10 @@
 namespace wp {
 
 namespace {
+
+// Larger texts are refused before any parsing (tinyobjloader needs several times the
+// text size in memory).
+constexpr std::size_t kMaxObjBytes = std::size_t(2) << 30;
 
 bool is_space(char c) {
     return c == ' ' || c == '\t' || c == '\r' || c == '\f' || c == '\v';
@@ -37,17 +42,16 @@ std::vector<std::string_view> tokens(std::string_view line) {
     return out;
 }
 
-// Reads and checks the raw file before tinyobjloader sees it: tinyobjloader reads "nan" or
-// garbage as 0, and turns out-of-range face indices into out-of-range shape indices (or
-// silently drops the face), without a line number. Here every `v` must have 3 finite
-// coordinates and every `f` at least 3 vertices whose position index lies in
-// [1, vertex count]. Returns the text for tinyobjloader, with trailing comments removed
-// from geometry lines (tinyobjloader rejects "f 1 2 3 # note"); line numbers are kept.
-std::string read_checked_obj(const std::filesystem::path& path, std::size_t& face_count) {
-    std::ifstream in(path, std::ios::binary);
-    if (!in) fail("cannot open '{}'", path.string());
-    const std::string file = path.string();
+// Checks the raw text before tinyobjloader sees it: tinyobjloader reads "nan" or garbage
+// as 0, and turns out-of-range face indices into out-of-range shape indices (or silently
+// drops the face), without a line number. Here every `v` must have 3 finite coordinates and
+// every `f` at least 3 vertices whose position index lies in [1, vertex count]. Returns the
+// text for tinyobjloader, with trailing comments removed from geometry lines (tinyobjloader
+// rejects "f 1 2 3 # note"); line numbers are kept.
+std::string checked_obj_text(std::string_view input, const std::string& file,
+                             std::size_t& face_count) {
     std::string text;
+    text.reserve(input.size() + input.size() / 8 + 16);
 
     struct Forward { // a positive index beyond the vertices read so far, checked at the end
         std::size_t line;
@@ -56,8 +60,12 @@ std::string read_checked_obj(const std::filesystem::path& path, std::size_t& fac
     std::vector<Forward> forward;
     std::size_t vertices = 0, line_no = 0;
     face_count = 0;
-    std::string line;
-    while (std::getline(in, line)) {
+    std::size_t pos = 0;
+    while (pos < input.size()) {
+        std::size_t eol = input.find('\n', pos);
+        if (eol == std::string_view::npos) eol = input.size();
+        const std::string_view line = input.substr(pos, eol - pos);
+        pos = eol + 1;
         ++line_no;
         auto tok = tokens(line);
         // Geometry lines without their comment tail; other lines (names may hold '#') as is
@@ -125,9 +133,54 @@ std::string read_checked_obj(const std::filesystem::path& path, std::size_t& fac
         if (f.index > long(vertices))
             fail("{}:{}: face vertex index {} is out of range: the file has {} vertices", file,
                  f.line, f.index, vertices);
-    if (in.bad()) fail("cannot read '{}'", file);
     return text;
 }
+
+// Reads `mtllib` files relative to the .obj's folder (tinyobjloader's own reader splits the
+// folder at ':' and would follow any path into a device or a fifo). Only regular files up
+// to kMaxMtlBytes are read; anything else is a warning ("not found"), as a missing one is.
+constexpr std::uintmax_t kMaxMtlBytes = std::uintmax_t(64) << 20;
+
+MtlSource mtl_files_beside(const std::filesystem::path& origin) {
+    namespace fs = std::filesystem;
+    const fs::path dir = origin.parent_path().empty() ? fs::path(".") : origin.parent_path();
+    return [dir](const std::string& name) -> std::optional<std::string> {
+        const fs::path p = dir / name;
+        std::error_code ec;
+        if (!fs::is_regular_file(fs::status(p, ec)) || ec) return std::nullopt;
+        const std::uintmax_t size = fs::file_size(p, ec);
+        if (ec || size > kMaxMtlBytes) return std::nullopt;
+        std::ifstream in(p, std::ios::binary);
+        if (!in) return std::nullopt;
+        std::ostringstream buf;
+        buf << in.rdbuf();
+        return std::move(buf).str();
+    };
+}
+
+// tinyobjloader's hook for `mtllib`: the library's text from an MtlSource.
+class MtlReader : public tinyobj::MaterialReader {
+  public:
+    explicit MtlReader(const MtlSource& source) : source_(source) {}
+    bool operator()(const std::string& name, std::vector<tinyobj::material_t>* materials,
+                    std::map<std::string, int>* names, std::string* warn,
+                    std::string* err) override {
+        std::optional<std::string> text = source_ ? source_(name) : std::nullopt;
+        if (!text) {
+            if (warn)
+                *warn += fmt::format("material library '{}' not found (or not a regular file "
+                                     "of at most {} MiB)\n",
+                                     name, kMaxMtlBytes >> 20);
+            return false;
+        }
+        std::istringstream in(std::move(*text));
+        tinyobj::LoadMtl(names, materials, &in, warn, err);
+        return true;
+    }
+
+  private:
+    const MtlSource& source_;
+};
 
 float max3(const tinyobj::real_t c[3]) {
     return float(std::max({c[0], c[1], c[2]}));
@@ -206,21 +259,6 @@ Material convert_material(const tinyobj::material_t& mt, const std::string& file
     return m;
 }
 
-// Looks at the centre of the box from +z, far enough for the bounding sphere to fit the
-// vertical fov.
-Camera frame_bounds(const Aabb& b) {
-    Camera c;
-    c.width = 800;
-    c.height = 600;
-    c.vfov_deg = 40.0f;
-    const float radius = std::max(0.5f * glm::length(b.extent()), 1e-3f);
-    const float distance = radius / std::sin(glm::radians(0.5f * c.vfov_deg));
-    c.target = b.center();
-    c.position = c.target + glm::vec3(0.0f, 0.0f, distance);
-    c.up = glm::vec3(0.0f, 1.0f, 0.0f);
-    return c;
-}
-
 // tinyobjloader's multi-line messages as prefixed warning lines.
 void add_lines(std::vector<std::string>& out, const std::string& file, const std::string& text) {
     std::size_t i = 0;
@@ -235,6 +273,107 @@ void add_lines(std::vector<std::string>& out, const std::string& file, const std
     }
 }
 
+// Polygons with more corners than this that are not convex are split as fans (ear clipping
+// costs up to n^3 here; real files rarely have large concave faces).
+constexpr std::size_t kMaxEarClipCorners = 128;
+
+// Splits one polygon (vertex indices in file order) into triangles that keep its winding.
+// Convex polygons become fans; others are ear-clipped (Meisters 1975) in the projection
+// onto the plane of their Newell normal's largest axis, with an ear's triangle checked to
+// hold no other corner. Returns false when it had to fall back to a fan that is not exact
+// (a self-intersecting polygon, or one over kMaxEarClipCorners corners).
+// tinyobjloader's own triangulation is not used: it splits concave quads along the
+// shorter diagonal and its ear clipping depends on the starting corner, both of which
+// give flipped triangles outside the polygon.
+bool triangulate_polygon(const std::vector<glm::vec3>& pos, const std::vector<std::uint32_t>& poly,
+                         std::vector<glm::uvec3>& out) {
+    const std::size_t n = poly.size();
+    auto fan = [&](const std::vector<std::uint32_t>& p) {
+        for (std::size_t k = 1; k + 1 < p.size(); ++k)
+            out.emplace_back(p[0], p[k], p[k + 1]);
+    };
+    if (n == 3) {
+        out.emplace_back(poly[0], poly[1], poly[2]);
+        return true;
+    }
+
+    // Newell normal (double: products of float coordinates cannot overflow)
+    glm::dvec3 normal(0.0);
+    for (std::size_t k = 0; k < n; ++k) {
+        const glm::dvec3 a(pos[poly[k]]), b(pos[poly[(k + 1) % n]]);
+        normal += glm::dvec3((a.y - b.y) * (a.z + b.z), (a.z - b.z) * (a.x + b.x),
+                             (a.x - b.x) * (a.y + b.y));
+    }
+    const glm::dvec3 mag = glm::abs(normal);
+    if (!(mag.x + mag.y + mag.z > 0.0) || !std::isfinite(mag.x + mag.y + mag.z)) {
+        fan(poly); // no area: any split is as good
+        return true;
+    }
+
+    // 2D coordinates with the polygon counter-clockwise (positive area)
+    const int axis = mag.x >= mag.y && mag.x >= mag.z ? 0 : (mag.y >= mag.z ? 1 : 2);
+    const int iu = (axis + 1) % 3, iv = (axis + 2) % 3;
+    const double flip = normal[axis] < 0.0 ? -1.0 : 1.0;
+    std::vector<glm::dvec2> p2(n);
+    for (std::size_t k = 0; k < n; ++k)
+        p2[k] = glm::dvec2(flip * double(pos[poly[k]][iu]), double(pos[poly[k]][iv]));
+    auto cross = [&](std::size_t a, std::size_t b, std::size_t c) {
+        const glm::dvec2 e0 = p2[b] - p2[a], e1 = p2[c] - p2[b];
+        return e0.x * e1.y - e0.y * e1.x;
+    };
+
+    // Convex (no corner turns clockwise): a fan is exact
+    bool convex = true;
+    for (std::size_t k = 0; k < n && convex; ++k)
+        convex = cross(k, (k + 1) % n, (k + 2) % n) >= 0.0;
+    if (convex) {
+        fan(poly);
+        return true;
+    }
+    if (n > kMaxEarClipCorners) {
+        fan(poly);
+        return false;
+    }
+
+    // Ear clipping over the remaining corners (local indices into poly / p2)
+    std::vector<std::uint32_t> rem(n);
+    for (std::size_t k = 0; k < n; ++k)
+        rem[k] = std::uint32_t(k);
+    auto inside = [&](std::size_t q, std::size_t a, std::size_t b, std::size_t c) {
+        if (p2[q] == p2[a] || p2[q] == p2[b] || p2[q] == p2[c]) return false;
+        return cross(a, b, q) >= 0.0 && cross(b, c, q) >= 0.0 && cross(c, a, q) >= 0.0;
+    };
+    std::size_t i = 0, stalled = 0;
+    while (rem.size() > 3) {
+        const std::size_t r = rem.size();
+        const std::size_t a = rem[(i + r - 1) % r], b = rem[i], c = rem[(i + 1) % r];
+        bool ear = cross(a, b, c) > 0.0;
+        for (std::size_t k = 0; ear && k < r; ++k)
+            if (rem[k] != a && rem[k] != b && rem[k] != c && inside(rem[k], a, b, c)) ear = false;
+        if (ear) {
+            out.emplace_back(poly[a], poly[b], poly[c]);
+            rem.erase(rem.begin() + std::ptrdiff_t(i));
+            if (i >= rem.size()) i = 0;
+            stalled = 0;
+        } else if (++stalled > r) {
+            // No ear left: self-intersecting (or numerically degenerate); fan the rest
+            std::vector<std::uint32_t> rest;
+            for (auto k : rem)
+                rest.push_back(poly[k]);
+            bool exact = true; // a fan of collinear leftovers is still right
+            for (std::size_t k = 1; k + 1 < rem.size(); ++k)
+                exact = exact && cross(rem[0], rem[k], rem[k + 1]) >= 0.0 &&
+                        cross(rem[k], rem[k + 1], rem[0]) >= 0.0;
+            fan(rest);
+            return exact;
+        } else {
+            i = (i + 1) % r;
+        }
+    }
+    out.emplace_back(poly[rem[0]], poly[rem[1]], poly[rem[2]]);
+    return true;
+}
+
 } // namespace
 
 Scene load_obj(const std::filesystem::path& path) {
@@ -242,28 +381,48 @@ Scene load_obj(const std::filesystem::path& path) {
     std::error_code ec;
     if (!std::filesystem::exists(path, ec)) fail("cannot open '{}': no such file", file);
     if (std::filesystem::is_directory(path, ec)) fail("cannot open '{}': it is a directory", file);
+    const std::uintmax_t size = std::filesystem::file_size(path, ec);
+    if (!ec && size > kMaxObjBytes)
+        fail("{}: the file is {} bytes; OBJ files over {} GiB are refused", file, size,
+             kMaxObjBytes >> 30);
+    std::ifstream in(path, std::ios::binary);
+    if (!in) fail("cannot open '{}'", file);
+    std::ostringstream buf;
+    buf << in.rdbuf();
+    if (in.bad()) fail("cannot read '{}'", file);
+    return parse_obj(buf.str(), path);
+}
 
-    // Raw-file checks that tinyobjloader does not make (indices, NaN, line numbers)
+Scene parse_obj(std::string_view input, const std::filesystem::path& origin) {
+    return parse_obj(input, origin, mtl_files_beside(origin));
+}
+
+Scene parse_obj(std::string_view input, const std::filesystem::path& origin,
+                const MtlSource& mtl_source) {
+    const std::string file = origin.string();
+    if (input.size() > kMaxObjBytes)
+        fail("{}: the text is {} bytes; OBJ files over {} GiB are refused", file, input.size(),
+             kMaxObjBytes >> 30);
+
+    // Raw-text checks that tinyobjloader does not make (indices, NaN, line numbers)
     std::size_t faces = 0;
-    std::istringstream text(read_checked_obj(path, faces));
+    std::istringstream text(checked_obj_text(input, file, faces));
     if (faces == 0) fail("{}: no triangles (the file has no faces)", file);
 
-    // Parse, triangulating polygons; .mtl files are looked up beside the .obj
+    // Parse (polygons are triangulated below); .mtl libraries come from mtl_source
     tinyobj::attrib_t attrib;
     std::vector<tinyobj::shape_t> shapes;
     std::vector<tinyobj::material_t> mtls;
     std::string warn, err;
-    std::string mtl_dir = path.parent_path().string();
-    if (!mtl_dir.empty()) mtl_dir += '/';
-    tinyobj::MaterialFileReader mtl_reader(mtl_dir);
+    MtlReader mtl_reader(mtl_source);
     if (!tinyobj::LoadObj(&attrib, &shapes, &mtls, &warn, &err, &text, &mtl_reader,
-                          /*triangulate=*/true, /*default_vcols_fallback=*/false)) {
+                          /*triangulate=*/false, /*default_vcols_fallback=*/false)) {
         while (!err.empty() && (is_space(err.back()) || err.back() == '\n'))
             err.pop_back();
         fail("{}: {}", file, err.empty() ? "tinyobjloader could not parse the file" : err);
     }
     Scene scene;
-    scene.name = path.filename().string();
+    scene.name = origin.filename().string();
     add_lines(scene.warnings, file, warn);
     add_lines(scene.warnings, file, err); // non-fatal messages (e.g. from the .mtl)
 
@@ -279,21 +438,22 @@ Scene load_obj(const std::filesystem::path& path) {
     std::vector<std::uint32_t> used(mtls.size(), ~0u);
     std::uint32_t default_id = ~0u;
     std::size_t without_material = 0;
+    std::size_t inexact = 0;
+    std::vector<std::uint32_t> poly;
     for (const auto& shape : shapes) {
         const auto& mesh = shape.mesh;
         std::size_t offset = 0;
         for (std::size_t f = 0; f < mesh.num_face_vertices.size(); ++f) {
             const std::size_t n = mesh.num_face_vertices[f];
-            if (n != 3)
-                fail("{}: shape '{}': face {} has {} vertices after triangulation", file,
-                     shape.name, f, n);
-            glm::uvec3 t;
-            for (int k = 0; k < 3; ++k) {
+            if (n < 3 || offset + n > mesh.indices.size())
+                fail("{}: shape '{}': face {} has {} vertices", file, shape.name, f, n);
+            poly.clear();
+            for (std::size_t k = 0; k < n; ++k) {
                 int vi = mesh.indices[offset + k].vertex_index;
                 if (vi < 0 || std::size_t(vi) >= nv)
                     fail("{}: shape '{}': face {} uses vertex index {} of {}", file, shape.name, f,
                          vi + 1, nv);
-                t[k] = std::uint32_t(vi);
+                poly.push_back(std::uint32_t(vi));
             }
             offset += n;
 
@@ -313,12 +473,17 @@ Scene load_obj(const std::filesystem::path& path) {
                     default_id = scene.add_material(d);
                 }
                 id = default_id;
-                ++without_material;
+                without_material += n - 2;
             }
-            scene.triangles.push_back(t);
-            scene.material_ids.push_back(id);
+            if (!triangulate_polygon(scene.positions, poly, scene.triangles)) ++inexact;
+            scene.material_ids.resize(scene.triangles.size(), id);
         }
     }
+    if (inexact > 0)
+        scene.warnings.push_back(fmt::format(
+            "{}: {} polygon(s) are self-intersecting or have more than {} corners without being "
+            "convex; they were split as fans, which may cover more than the polygon",
+            file, inexact, kMaxEarClipCorners));
     if (scene.triangles.empty()) fail("{}: no triangles (every face was dropped)", file);
     if (without_material > 0)
         scene.warnings.push_back(fmt::format(

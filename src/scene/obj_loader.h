@@ -1,8 +1,12 @@
 // obj_loader.h — Wavefront OBJ/MTL files into a Scene (tinyobjloader, polygons triangulated).
 //
 // Geometry: every `v` becomes a vertex (in file order, so vertex i of the scene is the
-// file's vertex i + 1), every face a triangle fan; normals, texture coordinates, lines and
-// points are ignored. Negative (relative) indices are supported.
+// file's vertex i + 1); every face of n corners becomes n - 2 triangles with the face's
+// winding: a fan when the polygon is convex, ear clipping in the polygon's plane when it is
+// not (a self-intersecting polygon, or a concave one over 128 corners, is fanned with a
+// warning). Vertex normals (`vn`) are not needed: wavepath shades with the geometric normal
+// of each triangle, so missing normals need no computing and given ones are ignored, as are
+// texture coordinates, lines and points. Negative (relative) indices are supported.
 //
 // Material mapping (MTL → wavepath), first rule that matches wins; "≈ 0" means every channel
 // <= 0.001, and Ks "perfect" means every channel >= 0.999:
@@ -35,14 +39,34 @@
 //   vertices, a vertex coordinate that is missing, unreadable, NaN or infinite
 //   ("path:LINE: vertex 4 has a non-finite coordinate 'nan'"), and a file with no triangles.
 // The result has passed validate_scene.
+//
+// Size limits: OBJ texts over 2 GiB are refused; `mtllib` files are read only when they are
+// regular files of at most 64 MiB, relative to the .obj's folder (otherwise: a warning, as
+// for a missing one). Everything else the parser allocates grows linearly with the text.
 #pragma once
 
 #include <filesystem>
+#include <functional>
+#include <optional>
+#include <string>
+#include <string_view>
 
 #include "scene/scene.h"
 
 namespace wp {
 
 Scene load_obj(const std::filesystem::path& path);
+
+// The same from text in memory. `origin` names the file in messages and Scene::name, and its
+// folder is where `mtllib` files are looked up (the current folder when it has none). Never
+// writes files; any input either gives a validated Scene or throws wp::Error.
+Scene parse_obj(std::string_view text, const std::filesystem::path& origin);
+
+// The same with `mtllib` libraries looked up through `mtl_source` (name as written in the
+// file -> the library's text, or nullopt when there is none) instead of the file system: for
+// tests and the fuzzer, which must not read files.
+using MtlSource = std::function<std::optional<std::string>(const std::string& name)>;
+Scene parse_obj(std::string_view text, const std::filesystem::path& origin,
+                const MtlSource& mtl_source);
 
 } // namespace wp

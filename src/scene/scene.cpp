@@ -1,6 +1,10 @@
 #include "scene/scene.h"
 
+#include <algorithm>
 #include <cmath>
+
+#include <glm/gtc/constants.hpp>
+#include <glm/trigonometric.hpp>
 
 #include "util/error.h"
 
@@ -76,6 +80,19 @@ Camera camera_from_matrix(const glm::mat4& m, float vfov_deg, int width, int hei
     c.vfov_deg = vfov_deg;
     c.width = width;
     c.height = height;
+    return c;
+}
+
+Camera frame_bounds(const Aabb& b) {
+    Camera c;
+    c.width = 800;
+    c.height = 600;
+    c.vfov_deg = 40.0f;
+    const float radius = std::max(0.5f * glm::length(b.extent()), 1e-3f);
+    const float distance = radius / std::sin(glm::radians(0.5f * c.vfov_deg));
+    c.target = b.center();
+    c.position = c.target + glm::vec3(0.0f, 0.0f, distance);
+    c.up = glm::vec3(0.0f, 1.0f, 0.0f);
     return c;
 }
 

@@ -84,6 +84,10 @@ struct Scene {
 // convention; Mitsuba's column 0 points to the image's left, which a look-at camera implies).
 Camera camera_from_matrix(const glm::mat4& to_world, float vfov_deg, int width, int height);
 
+// The default camera of files without one: 800 x 600, 40 degrees vertical fov, up +y,
+// looking from +z at the centre of the box, far enough for its bounding sphere to fit.
+Camera frame_bounds(const Aabb& b);
+
 // The vertical field of view for a horizontal one on a width x height film.
 float vfov_from_hfov(float hfov_deg, int width, int height);
 

@@ -1,0 +1,717 @@
+// test_scene_json.cpp — wavepath JSON scene files (scene/json_scene.h) against hand-computed
+// answers: every shape and key, transforms in the documented order, the shipped scenes
+// (scenes/*.json; cornell-box.json must be the built-in box, triangle for triangle and pixel
+// for pixel), and one clear message for every kind of bad input.
+//
+// Everything but the last test only parses: [parser] (run again under ASan + UBSan).
+#include <catch2/catch.hpp>
+
+#include <unistd.h>
+
+#include <cmath>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <set>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include <glm/glm.hpp>
+
+#include "render/loop.h"
+#include "render/wavefront.h"
+#include "scene/builtin.h"
+#include "scene/json_scene.h"
+#include "scene/load.h"
+#include "support.h"
+#include "util/error.h"
+#include "util/splitmix.h"
+#include "temp_dir.h"
+
+namespace fs = std::filesystem;
+using wp::Scene;
+
+namespace {
+
+using wp::test::TempDir;
+
+Scene parse(const std::string& text) { return wp::parse_json_scene(text, "dir/t.json"); }
+
+// The message of the wp::Error that parsing `text` throws ("" and a failed check if none).
+std::string error_of(const std::string& text) {
+    try {
+        parse(text);
+    } catch (const wp::Error& e) {
+        return e.what();
+    }
+    FAIL_CHECK("no error for: " << text);
+    return {};
+}
+
+bool has(const std::string& s, const std::string& part) { return s.find(part) != std::string::npos; }
+
+std::string read_file(const fs::path& p) {
+    std::ifstream in(p, std::ios::binary);
+    std::stringstream ss;
+    ss << in.rdbuf();
+    return ss.str();
+}
+
+// A scene around `shapes` with an emitting material "lamp" and a white "white".
+std::string with_shapes(const std::string& shapes, const std::string& extra_materials = "") {
+    return R"({"materials": {"white": {"type": "diffuse", "reflectance": 0.5},
+                             "lamp": {"type": "diffuse", "emission": 1})" +
+           extra_materials + R"(}, "shapes": [)" + shapes + "]}";
+}
+
+glm::dvec3 normal_of(const Scene& s, const glm::uvec3& t) {
+    glm::dvec3 a(s.positions[t.x]), b(s.positions[t.y]), c(s.positions[t.z]);
+    return glm::cross(b - a, c - a);
+}
+
+double total_area(const Scene& s) {
+    double a = 0.0;
+    for (const auto& t : s.triangles) a += 0.5 * glm::length(normal_of(s, t));
+    return a;
+}
+
+// The distinct vertex positions used by triangles, rounded to 1e-4 for set comparison.
+std::set<std::array<long, 3>> corners(const Scene& s) {
+    std::set<std::array<long, 3>> out;
+    for (const auto& t : s.triangles)
+        for (int k = 0; k < 3; ++k) {
+            glm::vec3 p = s.positions[t[k]];
+            out.insert({std::lround(p.x * 1e4), std::lround(p.y * 1e4), std::lround(p.z * 1e4)});
+        }
+    return out;
+}
+std::set<std::array<long, 3>> points(std::initializer_list<glm::dvec3> ps) {
+    std::set<std::array<long, 3>> out;
+    for (auto p : ps) out.insert({std::lround(p.x * 1e4), std::lround(p.y * 1e4), std::lround(p.z * 1e4)});
+    return out;
+}
+
+std::uint32_t material_named(const Scene& s, const std::string& name) {
+    for (std::uint32_t i = 0; i < s.materials.size(); ++i)
+        if (s.materials[i].name == name) return i;
+    FAIL("no material " << name);
+    return 0;
+}
+
+fs::path repo_scene(const char* name) { return fs::path(WP_SOURCE_DIR) / "scenes" / name; }
+
+}  // namespace
+
+TEST_CASE("json scene: a quad from corner and edges, camera, background, render, material",
+          "[scene][json][parser]") {
+    Scene s = parse(R"({
+      "version": 1,
+      "camera": {"position": [0, 0, 5], "look_at": [0, 0, 0], "up": [0, 1, 0], "fov": 30,
+                 "width": 64, "height": 48},
+      "background": [0.1, 0.2, 0.3],
+      "render": {"spp": 7, "depth": 2, "seed": 99},
+      "materials": {"white": {"type": "diffuse", "reflectance": 0.5, "emission": [1, 2, 3]}},
+      "shapes": [{"type": "quad", "corner": [1, 2, 3], "edge_u": [2, 0, 0], "edge_v": [0, 0, -4],
+                  "material": "white"}]
+    })");
+    CHECK(s.name == "t.json");
+    REQUIRE(s.triangle_count() == 2);
+    CHECK(corners(s) == points({{1, 2, 3}, {3, 2, 3}, {1, 2, -1}, {3, 2, -1}}));
+    // cross((2,0,0), (0,0,-4)) = (0, 8, 0): both triangles face +y; area |u x v| = 8
+    for (const auto& t : s.triangles) {
+        glm::dvec3 n = glm::normalize(normal_of(s, t));
+        CHECK(n.y == Approx(1.0));
+    }
+    CHECK(total_area(s) == Approx(8.0));
+    REQUIRE(s.materials.size() == 1);
+    CHECK(s.materials[0].name == "white");
+    CHECK(s.materials[0].kind == wp::MaterialKind::Diffuse);
+    CHECK(s.materials[0].albedo == glm::vec3(0.5f));
+    CHECK(s.materials[0].emission == glm::vec3(1.0f, 2.0f, 3.0f));
+    CHECK(s.material_ids == std::vector<std::uint32_t>{0, 0});
+    CHECK(s.camera.position == glm::vec3(0, 0, 5));
+    CHECK(s.camera.target == glm::vec3(0, 0, 0));
+    CHECK(s.camera.up == glm::vec3(0, 1, 0));
+    CHECK(s.camera.vfov_deg == 30.0f);
+    CHECK(s.camera.width == 64);
+    CHECK(s.camera.height == 48);
+    CHECK(s.background == glm::vec3(0.1f, 0.2f, 0.3f));
+    CHECK(s.render.spp == 7);
+    CHECK(s.render.depth == 2);
+    CHECK(s.render.seed == 99u);
+    CHECK(s.warnings.empty());
+}
+
+TEST_CASE("json scene: quad size and subdivisions", "[scene][json][parser]") {
+    Scene s = parse(with_shapes(
+        R"({"type": "quad", "size": [2, 1], "subdivisions": [3, 2], "material": "lamp"})"));
+    CHECK(s.triangle_count() == 12);  // 3 x 2 cells, 2 triangles each
+    CHECK(s.positions.size() == 12);  // 4 x 3 grid points
+    wp::Aabb b = s.bounds();
+    CHECK(b.lo == glm::vec3(-1.0f, -0.5f, 0.0f));
+    CHECK(b.hi == glm::vec3(1.0f, 0.5f, 0.0f));
+    for (const auto& t : s.triangles) CHECK(glm::normalize(normal_of(s, t)).z == Approx(1.0));
+    CHECK(total_area(s) == Approx(2.0));
+
+    Scene sq = parse(with_shapes(R"({"type": "quad", "size": 3, "subdivisions": 4, "material": "lamp"})"));
+    CHECK(sq.triangle_count() == 32);
+    CHECK(corners(sq).size() == 25);
+    CHECK(total_area(sq) == Approx(9.0));
+}
+
+TEST_CASE("json scene: boxes from min/max and from size/center", "[scene][json][parser]") {
+    Scene a = parse(with_shapes(
+        R"({"type": "box", "min": [0, 0, 0], "max": [1, 2, 3], "material": "lamp"})"));
+    CHECK(a.triangle_count() == 12);
+    CHECK(a.positions.size() == 8);
+    CHECK(corners(a) == points({{0, 0, 0}, {1, 0, 0}, {0, 2, 0}, {0, 0, 3}, {1, 2, 0}, {1, 0, 3},
+                                {0, 2, 3}, {1, 2, 3}}));
+    CHECK(total_area(a) == Approx(2.0 * (1 * 2 + 2 * 3 + 3 * 1)));
+    // Outward: every triangle's normal points away from the centre (0.5, 1, 1.5)
+    for (const auto& t : a.triangles) {
+        glm::dvec3 c = (glm::dvec3(a.positions[t.x]) + glm::dvec3(a.positions[t.y]) +
+                        glm::dvec3(a.positions[t.z])) / 3.0;
+        CHECK(glm::dot(normal_of(a, t), c - glm::dvec3(0.5, 1, 1.5)) > 0.0);
+    }
+
+    Scene b = parse(with_shapes(
+        R"({"type": "box", "size": [2, 4, 6], "center": [1, 1, 1], "subdivisions": 2, "material": "lamp"})"));
+    CHECK(b.triangle_count() == 48);    // 12 n^2
+    CHECK(b.positions.size() == 26);    // 6 n^2 + 2
+    CHECK(b.bounds().lo == glm::vec3(0, -1, -2));
+    CHECK(b.bounds().hi == glm::vec3(2, 3, 4));
+
+    Scene c = parse(with_shapes(R"({"type": "box", "size": 1, "material": "lamp"})"));
+    CHECK(c.bounds().lo == glm::vec3(-0.5f));
+    CHECK(c.bounds().hi == glm::vec3(0.5f));
+}
+
+TEST_CASE("json scene: spheres: counts, radius, area against 4 pi r^2", "[scene][json][parser]") {
+    const double pi = 3.14159265358979323846;
+    Scene s = parse(with_shapes(R"({"type": "sphere", "center": [1, 2, 3], "radius": 2,
+                                    "rings": 16, "segments": 32, "material": "lamp"})"));
+    CHECK(s.triangle_count() == 2 * 32 * 15);
+    for (const auto& p : s.positions)
+        CHECK(glm::length(glm::dvec3(p) - glm::dvec3(1, 2, 3)) == Approx(2.0).epsilon(1e-6));
+    // An inscribed polyhedron: a little less area than the sphere, the error falling as the
+    // square of the cell size (16 x 32 cells: under 2%; 64 x 128: under 0.2%)
+    const double exact = 4.0 * pi * 4.0;
+    const double coarse = total_area(s) / exact;
+    CHECK(coarse < 1.0);
+    CHECK(coarse > 0.98);
+    Scene fine = parse(with_shapes(R"({"type": "sphere", "center": [1, 2, 3], "radius": 2,
+                                       "rings": 64, "segments": 128, "material": "lamp"})"));
+    const double f = total_area(fine) / exact;
+    CHECK(f < 1.0);
+    CHECK(f > 0.998);
+    CHECK(1.0 - f < (1.0 - coarse) / 8.0);  // 4x finer: about 16x less error
+    // Defaults: centre 0, radius 1, 32 rings, 64 segments
+    Scene d = parse(with_shapes(R"({"type": "sphere", "material": "lamp"})"));
+    CHECK(d.triangle_count() == 2 * 64 * 31);
+    CHECK(d.bounds().hi.y == Approx(1.0f));
+    CHECK(d.bounds().lo.y == Approx(-1.0f));
+}
+
+TEST_CASE("json scene: the stress shape", "[scene][json][parser]") {
+    Scene s = parse(with_shapes(R"({"type": "stress", "triangles": 2000, "material": "lamp"})"));
+    CHECK(s.triangle_count() >= 1900);
+    CHECK(s.triangle_count() <= 2100);
+    CHECK(wp::Aabb{{-3.5f, -3.5f, -1.5f}, {3.5f, 3.5f, 1.5f}}.contains(s.bounds()));
+}
+
+TEST_CASE("json scene: transforms in the documented order", "[scene][json][parser]") {
+    // The quad's corners (1,0,0), (1,1,0), (1,0,1), (1,1,1), normal cross(y, z) = +x
+    const std::string quad =
+        R"({"type": "quad", "corner": [1, 0, 0], "edge_u": [0, 1, 0], "edge_v": [0, 0, 1],
+            "material": "lamp", "transform": )";
+    auto with = [&](const std::string& t) { return parse(with_shapes(quad + t + "}")); };
+
+    // A list acts in order: scale 2, then rotate 90 about z ((x,y,z) -> (-y,x,z)), then
+    // translate (1,0,0): (1,0,0) -> (2,0,0) -> (0,2,0) -> (1,2,0)
+    const auto srt = points({{1, 2, 0}, {-1, 2, 0}, {1, 2, 2}, {-1, 2, 2}});
+    Scene a = with(R"([{"scale": 2}, {"rotate": {"axis": [0, 0, 1], "degrees": 90}},
+                       {"translate": [1, 0, 0]}])");
+    CHECK(corners(a) == srt);
+    // The normal +x turned 90 about z is +y
+    for (const auto& t : a.triangles) CHECK(glm::normalize(normal_of(a, t)).y == Approx(1.0));
+
+    // Reversed list: translate first: (1,0,0) -> (2,0,0) -> (0,2,0) -> (0,4,0)
+    Scene b = with(R"([{"translate": [1, 0, 0]}, {"rotate": {"axis": [0, 0, 1], "degrees": 90}},
+                       {"scale": 2}])");
+    CHECK(corners(b) == points({{0, 4, 0}, {-2, 4, 0}, {0, 4, 2}, {-2, 4, 2}}));
+
+    // The object form is scale, then rotate, then translate, whatever the key order
+    Scene c = with(R"({"translate": [1, 0, 0], "rotate": {"axis": [0, 0, 1], "degrees": 90},
+                       "scale": [2, 2, 2]})");
+    CHECK(corners(c) == srt);
+
+    // Matrices, row-major: the translation is the last column
+    const auto shifted = points({{6, 6, 7}, {6, 7, 7}, {6, 6, 8}, {6, 7, 8}});
+    Scene d = with(R"({"matrix": [1, 0, 0, 5,  0, 1, 0, 6,  0, 0, 1, 7,  0, 0, 0, 1]})");
+    CHECK(corners(d) == shifted);
+    Scene e = with(R"({"matrix": [[1, 0, 0, 5], [0, 1, 0, 6], [0, 0, 1, 7], [0, 0, 0, 1]]})");
+    CHECK(corners(e) == shifted);
+    // A matrix step among others: rotate 90 about y ((x,y,z) -> (z,y,-x)), then the matrix
+    Scene f = with(R"([{"rotate": {"axis": [0, 1, 0], "degrees": 90}},
+                       {"matrix": [1, 0, 0, 5,  0, 1, 0, 6,  0, 0, 1, 7,  0, 0, 0, 1]}])");
+    CHECK(corners(f) == points({{5, 6, 6}, {5, 7, 6}, {6, 6, 6}, {6, 7, 6}}));
+
+    // A mirror keeps the front in front: x -> -x maps the +x normal to -x
+    Scene m = with(R"({"scale": [-1, 1, 1]})");
+    CHECK(corners(m) == points({{-1, 0, 0}, {-1, 1, 0}, {-1, 0, 1}, {-1, 1, 1}}));
+    for (const auto& t : m.triangles) CHECK(glm::normalize(normal_of(m, t)).x == Approx(-1.0));
+}
+
+TEST_CASE("json scene: materials of every kind, defaults, file order, unused ones",
+          "[scene][json][parser]") {
+    Scene s = parse(R"({
+      "materials": {
+        "z-diffuse": {"type": "diffuse"},
+        "mirror": {"type": "mirror"},
+        "rough": {"type": "glossy", "roughness": 0.2, "reflectance": [0.1, 0.2, 0.3]},
+        "phong": {"type": "glossy", "exponent": 10},
+        "plain-glossy": {"type": "glossy"},
+        "water": {"type": "glass", "ior": 1.33, "reflectance": [1, 0.9, 0.8]},
+        "glass": {"type": "glass"},
+        "lamp": {"type": "mirror", "reflectance": 0.25, "emission": 5},
+        "unused": {"type": "diffuse"}
+      },
+      "shapes": [
+        {"type": "quad", "size": 1, "material": "lamp"},
+        {"type": "quad", "size": 1, "material": "glass"},
+        {"type": "quad", "size": 1, "material": "water"},
+        {"type": "quad", "size": 1, "material": "plain-glossy"},
+        {"type": "quad", "size": 1, "material": "phong"},
+        {"type": "quad", "size": 1, "material": "rough"},
+        {"type": "quad", "size": 1, "material": "mirror"},
+        {"type": "quad", "size": 1, "material": "z-diffuse"}
+      ]
+    })");
+    // File order, not use order or name order; the unused one dropped with a warning
+    std::vector<std::string> names;
+    for (const auto& m : s.materials) names.push_back(m.name);
+    CHECK(names == std::vector<std::string>{"z-diffuse", "mirror", "rough", "phong",
+                                            "plain-glossy", "water", "glass", "lamp"});
+    REQUIRE(s.warnings.size() == 1);
+    CHECK(has(s.warnings[0], "dir/t.json"));
+    CHECK(has(s.warnings[0], "'unused'"));
+    CHECK(has(s.warnings[0], "/materials/unused"));
+    // Shapes use their materials
+    CHECK(s.material_ids[0] == material_named(s, "lamp"));
+    CHECK(s.material_ids[14] == material_named(s, "z-diffuse"));
+
+    auto m = [&](const char* n) { return s.materials[material_named(s, n)]; };
+    CHECK(m("z-diffuse").kind == wp::MaterialKind::Diffuse);
+    CHECK(m("z-diffuse").albedo == glm::vec3(0.8f));
+    CHECK(m("mirror").kind == wp::MaterialKind::Mirror);
+    CHECK(m("mirror").albedo == glm::vec3(1.0f));
+    CHECK(m("rough").kind == wp::MaterialKind::Glossy);
+    CHECK(m("rough").exponent == Approx(48.0f));  // 2 / 0.2^2 - 2
+    CHECK(m("rough").albedo == glm::vec3(0.1f, 0.2f, 0.3f));
+    CHECK(m("phong").exponent == 10.0f);
+    CHECK(m("phong").albedo == glm::vec3(0.8f));
+    CHECK(m("plain-glossy").exponent == 100.0f);
+    CHECK(m("water").kind == wp::MaterialKind::Glass);
+    CHECK(m("water").ior == 1.33f);
+    CHECK(m("water").albedo == glm::vec3(1.0f, 0.9f, 0.8f));
+    CHECK(m("glass").ior == 1.5f);
+    CHECK(m("glass").albedo == glm::vec3(1.0f));
+    CHECK(m("lamp").kind == wp::MaterialKind::Mirror);
+    CHECK(m("lamp").albedo == glm::vec3(0.25f));
+    CHECK(m("lamp").emission == glm::vec3(5.0f));
+}
+
+TEST_CASE("json scene: cameras: horizontal fov, matrix, framing", "[scene][json][parser]") {
+    const std::string shapes = R"(, "materials": {"lamp": {"type": "diffuse", "emission": 1}},
+        "shapes": [{"type": "box", "min": [-1, -1, -1], "max": [1, 1, 1], "material": "lamp"}]})";
+    // hfov 90 on 200 x 100: vfov = 2 atan(tan(45 deg) * 100 / 200) = 2 atan(0.5)
+    Scene h = parse(R"({"camera": {"position": [0, 0, 5], "look_at": [0, 0, 0], "fov": 90,
+                                   "fov_axis": "x", "width": 200, "height": 100})" + shapes);
+    CHECK(h.camera.vfov_deg == Approx(53.13010235).epsilon(1e-6));
+    CHECK(h.camera.width == 200);
+
+    // Row-major camera-to-world: position = last column, view = column 2, up = column 1
+    Scene m = parse(R"({"camera": {"matrix": [-1, 0, 0, 1,  0, 1, 0, 2,  0, 0, -1, 3,  0, 0, 0, 1],
+                                   "fov": 25})" + shapes);
+    CHECK(m.camera.position == glm::vec3(1, 2, 3));
+    CHECK(m.camera.target == glm::vec3(1, 2, 2));
+    CHECK(m.camera.up == glm::vec3(0, 1, 0));
+    CHECK(m.camera.vfov_deg == 25.0f);
+    CHECK(m.camera.width == 800);
+    CHECK(m.camera.height == 600);
+
+    // No camera: looks at the centre from +z with the bounding sphere (radius sqrt 3) inside
+    // the vertical fov (the narrower one on 800 x 600)
+    Scene f = parse(R"({"camera": {"fov": 40})" + shapes);
+    CHECK(f.camera.target == glm::vec3(0.0f));
+    CHECK(f.camera.position.x == 0.0f);
+    CHECK(f.camera.position.y == 0.0f);
+    CHECK(f.camera.position.z * std::sin(glm::radians(20.0)) >= std::sqrt(3.0) * 0.9999);
+    CHECK(f.camera.position.z * std::sin(glm::radians(20.0)) <= std::sqrt(3.0) * 1.01);
+    Scene g = parse(R"({"background": 0)" + shapes);
+    CHECK(g.camera.position == f.camera.position);
+}
+
+TEST_CASE("json scene: mesh files relative to the scene, own materials or a named one",
+          "[scene][json][parser]") {
+    TempDir d;
+    d.write("meshes/tri.obj", "mtllib tri.mtl\nusemtl shiny\nv 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n");
+    d.write("meshes/tri.mtl", "newmtl shiny\nKd 0.2 0.3 0.4\nKe 2 2 2\n");
+    const fs::path scene = d.write("scenes/s.json", R"({
+      "materials": {"white": {"type": "diffuse", "reflectance": 0.5}},
+      "shapes": [
+        {"type": "mesh", "file": "../meshes/tri.obj", "transform": {"translate": [0, 0, 1]}},
+        {"type": "mesh", "file": "../meshes/tri.obj", "material": "white",
+         "transform": {"scale": 2}}
+      ]
+    })");
+    Scene s = wp::load_json_scene(scene);
+    REQUIRE(s.triangle_count() == 2);
+    auto tri = [&](int i) {
+        std::vector<glm::vec3> v;
+        for (int k = 0; k < 3; ++k) v.push_back(s.positions[s.triangles[i][k]]);
+        return v;
+    };
+    CHECK(tri(0) == std::vector<glm::vec3>{{0, 0, 1}, {1, 0, 1}, {0, 1, 1}});
+    CHECK(tri(1) == std::vector<glm::vec3>{{0, 0, 0}, {2, 0, 0}, {0, 2, 0}});
+    const auto& own = s.materials[s.material_ids[0]];
+    CHECK(own.name == "shiny");
+    CHECK(own.albedo == glm::vec3(0.2f, 0.3f, 0.4f));
+    CHECK(own.emission == glm::vec3(2.0f));
+    CHECK(s.materials[s.material_ids[1]].name == "white");
+    // The dispatcher routes .json here
+    Scene t = wp::load_scene_file(scene);
+    CHECK(t.triangle_count() == 2);
+}
+
+TEST_CASE("json scene: a PLY mesh file (Assimp)", "[scene][json][parser]") {
+    TempDir d;
+    d.write("quad.ply",
+            "ply\nformat ascii 1.0\nelement vertex 4\nproperty float x\nproperty float y\n"
+            "property float z\nelement face 1\nproperty list uchar int vertex_indices\n"
+            "end_header\n0 0 0\n1 0 0\n1 1 0\n0 1 0\n4 0 1 2 3\n");
+    const fs::path scene = d.write("s.json", R"({
+      "materials": {"lamp": {"type": "diffuse", "emission": 1}},
+      "shapes": [{"type": "mesh", "file": "quad.ply", "material": "lamp",
+                  "transform": {"translate": [0, 0, 2]}}]})");
+    Scene s = wp::load_json_scene(scene);
+    CHECK(s.triangle_count() == 2);  // the unit square, triangulated
+    CHECK(total_area(s) == Approx(1.0));
+    CHECK(corners(s) == points({{0, 0, 2}, {1, 0, 2}, {1, 1, 2}, {0, 1, 2}}));
+    for (const auto& t : s.triangles) CHECK(glm::normalize(normal_of(s, t)).z == Approx(1.0));
+}
+
+TEST_CASE("json scene: a glTF mesh file", "[scene][json][parser]") {
+    TempDir d;
+    // One triangle (0,0,0), (1,0,0), (0,1,0): 36 bytes of little-endian floats, base64
+    d.write("tri.gltf", R"({"asset": {"version": "2.0"},
+      "buffers": [{"byteLength": 36, "uri": "data:application/octet-stream;base64,AAAAAAAAAAAAAAAAAACAPwAAAAAAAAAAAAAAAAAAgD8AAAAA"}],
+      "bufferViews": [{"buffer": 0, "byteLength": 36}],
+      "accessors": [{"bufferView": 0, "componentType": 5126, "count": 3, "type": "VEC3",
+                     "min": [0, 0, 0], "max": [1, 1, 0]}],
+      "meshes": [{"primitives": [{"attributes": {"POSITION": 0}}]}],
+      "nodes": [{"mesh": 0}], "scenes": [{"nodes": [0]}], "scene": 0})");
+    const fs::path scene = d.write("s.json", R"({
+      "materials": {"lamp": {"type": "diffuse", "emission": 1}},
+      "shapes": [{"type": "mesh", "file": "tri.gltf", "material": "lamp",
+                  "transform": [{"scale": 2}, {"translate": [0, 0, 2]}]}]})");
+    Scene s = wp::load_json_scene(scene);
+    REQUIRE(s.triangle_count() == 1);
+    CHECK(corners(s) == points({{0, 0, 2}, {2, 0, 2}, {0, 2, 2}}));
+    CHECK(s.materials[s.material_ids[0]].name == "lamp");
+}
+
+TEST_CASE("json scene: scenes/cornell-box.json is the built-in Cornell box",
+          "[scene][json][parser]") {
+    Scene j = wp::load_json_scene(repo_scene("cornell-box.json"));
+    Scene b = wp::make_cornell_box();
+    CHECK(j.name == "cornell-box.json");
+    CHECK(j.warnings.empty());
+    REQUIRE(j.triangle_count() == b.triangle_count());
+    REQUIRE(j.positions.size() == b.positions.size());
+    REQUIRE(j.materials.size() == b.materials.size());
+    for (std::size_t i = 0; i < b.materials.size(); ++i) {
+        const wp::Material &x = j.materials[i], &y = b.materials[i];
+        INFO("material " << i << " " << y.name);
+        CHECK(x.name == y.name);
+        CHECK(x.kind == y.kind);
+        CHECK(x.albedo == y.albedo);
+        CHECK(x.emission == y.emission);
+        CHECK(x.exponent == y.exponent);
+        CHECK(x.ior == y.ior);
+    }
+    CHECK(j.triangles == b.triangles);
+    CHECK(j.material_ids == b.material_ids);
+    float worst = 0.0f;
+    for (std::size_t i = 0; i < b.positions.size(); ++i)
+        worst = std::max(worst, glm::length(j.positions[i] - b.positions[i]));
+    CHECK(worst <= 1e-6f);
+    CHECK(j.camera.position == b.camera.position);
+    CHECK(j.camera.target == b.camera.target);
+    CHECK(j.camera.up == b.camera.up);
+    CHECK(j.camera.vfov_deg == b.camera.vfov_deg);
+    CHECK(j.camera.width == b.camera.width);
+    CHECK(j.camera.height == b.camera.height);
+    CHECK(j.background == b.background);
+}
+
+TEST_CASE("json scene: scenes/showcase.json and scenes/stress.json", "[scene][json][parser]") {
+    Scene s = wp::load_json_scene(repo_scene("showcase.json"));
+    CHECK(s.warnings.empty());
+    std::set<float> glossy_exponents;
+    int mirrors = 0, glasses = 0, emitters = 0;
+    for (const auto& m : s.materials) {
+        if (m.kind == wp::MaterialKind::Glossy) glossy_exponents.insert(m.exponent);
+        mirrors += m.kind == wp::MaterialKind::Mirror;
+        glasses += m.kind == wp::MaterialKind::Glass;
+        emitters += m.emissive();
+    }
+    CHECK(glossy_exponents.size() >= 3);
+    CHECK(mirrors >= 1);
+    CHECK(glasses >= 1);
+    CHECK(emitters >= 1);
+
+    Scene t = wp::load_json_scene(repo_scene("stress.json"));
+    CHECK(t.warnings.empty());
+    CHECK(t.triangle_count() >= 245000);
+    CHECK(t.triangle_count() <= 255000);
+}
+
+TEST_CASE("json scene: bad input gives one message with file, place and problem",
+          "[scene][json][parser]") {
+    const std::string lamp = R"("materials": {"white": {"type": "diffuse", "emission": 1}})";
+    const std::string quad = R"({"type": "quad", "size": 1, "material": "white"})";
+    auto scene = [&](const std::string& extra) {
+        return "{" + lamp + ", \"shapes\": [" + quad + "]" + extra + "}";
+    };
+    struct Case {
+        std::string text;
+        std::vector<std::string> parts;  // every one must be in the message
+    };
+    const std::vector<Case> cases = {
+        // Malformed JSON: line and column of the second comma
+        {"{\n  \"camera\": {\n    \"fov\": 40,,\n  }\n}", {"dir/t.json:3:15:", "malformed JSON"}},
+        {"", {"dir/t.json:1:1:", "malformed JSON"}},
+        {"{\"shapes\": [\n  {\"type\": \"quad\", \"size\": NaN}]}",
+         {"dir/t.json:2:28:", "malformed JSON", "NaN or Infinity"}},
+        {"{\"shapes\": [\n  {\"type\": \"quad\", \"size\": 1e999}]}",
+         {"dir/t.json:2:28:", "overflow", "finite"}},
+        {"{\"a\": 1} x", {"dir/t.json:1:", "malformed JSON"}},
+        // Unknown keys, with the JSON path, line:column of the key and a hint
+        {"{\n  \"materials\": {\n    \"white\": {\"type\": \"diffuse\", \"materail\": 1}\n  },\n"
+         "  \"shapes\": []\n}",
+         {"dir/t.json:3:34:", "/materials/white/materail", "unknown key 'materail'",
+          "known keys: type, reflectance, emission"}},
+        {"{" + lamp + R"(, "shapes": [{"type": "quad", "size": 1, "materail": "white"}]})",
+         {"/shapes/0/materail", "unknown key", "did you mean 'material'?"}},
+        // (a byte order mark and CRLF line ends do not shift the position)
+        {"\xEF\xBB\xBF{\r\n  \"shapez\": []\r\n}\r\n",
+         {"dir/t.json:2:3:", "/shapez", "did you mean 'shapes'?"}},
+        {"{\"materials\": {\"a\\u0062c\": {\"type\": \"diffuse\"}}, \"shapes\": [{\"type\": "
+         "\"quad\", \"size\": 1, \"material\": \"abc\", \"x\\ty\": 1}]}",
+         {"dir/t.json:1:108:", "/shapes/0/x\\x09y", "unknown key"}},
+        {scene(R"(, "camrea": {})"), {"/camrea", "unknown key 'camrea'", "did you mean 'camera'?"}},
+        {scene(R"(, "camera": {"target": [0, 0, 0]})"), {"/camera/target", "did you mean 'look_at'?"}},
+        {"{\"materials\": {\"w\": {\"type\": \"diffuse\", \"albedo\": 0.5}}, \"shapes\": []}",
+         {"/materials/w/albedo", "did you mean 'reflectance'?"}},
+        {scene(R"(, "camera": {"fov": 40, "fov": 50})"), {"/camera/fov", "appears twice"}},
+        {"{\"materials\": {\"w\": {\"type\": \"diffuse\", \"ior\": 1.5}}, \"shapes\": []}",
+         {"/materials/w/ior", "does not apply to a diffuse material", "glass"}},
+        {"{" + lamp + R"(, "shapes": [{"type": "quad", "radius": 1, "material": "white"}]})",
+         {"/shapes/0/radius", "does not apply to a quad", "sphere"}},
+        // Wrong types
+        {scene(R"(, "camera": {"fov": "40"})"),
+         {"/camera/fov", "expected a number, got the string \"40\""}},
+        {scene(R"(, "camera": {"width": 64.5})"), {"/camera/width", "expected an integer"}},
+        {scene(R"(, "camera": {"position": [0, 0], "look_at": [0, 0, 0]})"),
+         {"/camera/position", "array of 3 numbers"}},
+        {scene(R"(, "background": "black")"), {"/background", "expected a number or an array"}},
+        {scene(R"(, "render": [64])"), {"/render", "expected render settings"}},
+        {"[1, 2]", {"dir/t.json:1:1: /:", "expected a scene"}},
+        {"{" + lamp + R"(, "shapes": {"type": "quad"}})", {"/shapes", "expected an array"}},
+        // Out of range
+        {scene(R"(, "camera": {"fov": -10})"), {"/camera/fov", "out of range", "(0, 180)"}},
+        {scene(R"(, "camera": {"fov": 180})"), {"/camera/fov", "(0, 180)"}},
+        {scene(R"(, "camera": {"width": 0})"), {"/camera/width", "out of range", "[1, 16384]"}},
+        {scene(R"(, "camera": {"width": 16384, "height": 16384})"), {"/camera/height", "2^26"}},
+        {scene(R"(, "render": {"spp": 0})"), {"/render/spp", "out of range"}},
+        {scene(R"(, "render": {"seed": -1})"), {"/render/seed", "out of range"}},
+        {scene(R"(, "camera": {"position": [0, 0, 1], "look_at": [0, 0, 1]})"),
+         {"/camera/look_at", "equals position"}},
+        {scene(R"(, "camera": {"position": [0, 0, 1], "look_at": [0, 0, 0], "up": [0, 0, 2]})"),
+         {"/camera/up", "parallel"}},
+        {scene(R"(, "camera": {"position": [0, 0, 1]})"), {"/camera", "go together"}},
+        {"{\"materials\": {\"w\": {\"type\": \"diffuse\", \"reflectance\": [0.5, 2, 0.5]}}, "
+         "\"shapes\": []}",
+         {"/materials/w/reflectance/1", "out of range", "[0, 1]"}},
+        {"{\"materials\": {\"w\": {\"type\": \"glossy\", \"roughness\": 0}}, \"shapes\": []}",
+         {"/materials/w/roughness", "out of range"}},
+        {"{\"materials\": {\"w\": {\"type\": \"diffuse\", \"emission\": -1}}, \"shapes\": []}",
+         {"/materials/w/emission", ">= 0"}},
+        {"{\"materials\": {\"w\": {\"type\": \"plastic\"}}, \"shapes\": []}",
+         {"/materials/w/type", "unknown material type 'plastic'"}},
+        {scene(R"(, "version": 2)"), {"/version", "unsupported version 2"}},
+        // Shapes
+        {"{" + lamp + R"(, "shapes": [{"type": "sphear", "material": "white"}]})",
+         {"/shapes/0/type", "did you mean 'sphere'?"}},
+        {"{" + lamp + R"(, "shapes": [{"type": "quad", "size": 1, "material": "whit"}]})",
+         {"/shapes/0/material", "no material named 'whit'", "did you mean 'white'?"}},
+        {"{" + lamp + R"(, "shapes": [{"type": "quad", "size": 1}]})",
+         {"/shapes/0", "needs a \"material\""}},
+        {"{" + lamp + R"(, "shapes": [{"type": "mesh", "file": "nowhere.obj"}]})",
+         {"/shapes/0/file", "nowhere.obj", "not found"}},
+        {"{" + lamp + R"(, "shapes": [{"type": "quad", "corner": [0, 0, 0], "edge_u": [1, 0, 0],
+             "edge_v": [2, 0, 0], "material": "white"}]})",
+         {"/shapes/0/edge_v", "parallel"}},
+        {"{" + lamp + R"(, "shapes": [{"type": "box", "min": [0, 0, 0], "max": [1, 0, 1],
+             "material": "white"}]})",
+         {"/shapes/0/max", "must exceed min"}},
+        {"{" + lamp + R"(, "shapes": [{"type": "quad", "size": 1, "subdivisions": 5000,
+             "material": "white"}]})",
+         {"/shapes/0/subdivisions", "out of range"}},
+        {"{" + lamp + R"(, "shapes": [{"type": "sphere", "rings": 4096, "segments": 8192,
+             "material": "white"}]})",
+         {"/shapes/0", "limit of 16777216 triangles"}},
+        {"{" + lamp + R"(, "shapes": [{"type": "stress", "triangles": 99999999,
+             "material": "white"}]})",
+         {"/shapes/0/triangles", "out of range"}},
+        // Transforms
+        {"{" + lamp + R"(, "shapes": [{"type": "quad", "size": 1, "material": "white",
+             "transform": {"matrix": [1, 0, 0, 0,  0, 1, 0, 0,  0, 0, 1, 0,  0, 0, 1, 1]}}]})",
+         {"/shapes/0/transform/matrix", "last row"}},
+        {"{" + lamp + R"(, "shapes": [{"type": "quad", "size": 1, "material": "white",
+             "transform": [{"scale": [1, 0, 1]}]}]})",
+         {"/shapes/0/transform/0/scale", "scale of 0"}},
+        {"{" + lamp + R"(, "shapes": [{"type": "quad", "size": 1, "material": "white",
+             "transform": [{"translate": [1, 0, 0], "scale": 2}]}]})",
+         {"/shapes/0/transform/0", "exactly one key"}},
+        {"{" + lamp + R"(, "shapes": [{"type": "quad", "size": 1, "material": "white",
+             "transform": {"rotate": {"axis": [0, 0, 0], "degrees": 10}}}]})",
+         {"/shapes/0/transform/rotate/axis", "must not be zero"}},
+        {"{" + lamp + R"(, "shapes": [{"type": "quad", "size": 1, "material": "white",
+             "transform": {"rotate": {"axis": [0, 1, 0], "angle": 10}}}]})",
+         {"/shapes/0/transform/rotate/angle", "did you mean 'degrees'?"}},
+        {"{" + lamp + R"(, "shapes": [{"type": "sphere", "radius": 3e38, "center": [3e38, 0, 0],
+             "material": "white"}]})",
+         {"/shapes/0", "not finite", "overflows"}},
+        {"{" + lamp + R"(, "shapes": [{"type": "quad", "size": 1, "material": "white",
+             "transform": [{"scale": 1e30}, {"scale": 1e30}]}]})",
+         {"/shapes/0/transform", "not finite"}},
+        // No triangles
+        {"{" + lamp + R"(, "shapes": []})", {"/shapes", "no triangles"}},
+        {"{" + lamp + "}", {"dir/t.json:1:1: /:", "no triangles"}},
+    };
+    for (const Case& c : cases) {
+        std::string msg = error_of(c.text);
+        INFO("scene: " << c.text << "\nmessage: " << msg);
+        CHECK(has(msg, "dir/t.json"));
+        CHECK(msg.find('\n') == std::string::npos);  // one line
+        for (const auto& part : c.parts) CHECK(has(msg, part));
+    }
+}
+
+TEST_CASE("json scene: errors inside mesh files name both files", "[scene][json][parser]") {
+    TempDir d;
+    d.write("bad.obj", "v 0 0 0\nv nan 0 0\nv 0 1 0\nf 1 2 3\n");
+    const fs::path scene = d.write("s.json", R"({
+  "materials": {"lamp": {"type": "diffuse", "emission": 1}},
+  "shapes": [{"type": "mesh", "file": "bad.obj", "material": "lamp"}]
+})");
+    try {
+        wp::load_json_scene(scene);
+        FAIL("no error");
+    } catch (const wp::Error& e) {
+        std::string msg = e.what();
+        INFO(msg);
+        CHECK(has(msg, "s.json:3:39: /shapes/0/file:"));
+        CHECK(has(msg, "bad.obj:2"));
+        CHECK(has(msg, "non-finite"));
+    }
+    // A folder instead of a file, and a missing scene file
+    fs::create_directories(d.path / "dir.obj");
+    d.write("s2.json", R"({"materials": {"lamp": {"type": "diffuse", "emission": 1}},
+        "shapes": [{"type": "mesh", "file": "dir.obj"}]})");
+    CHECK_THROWS_WITH(wp::load_json_scene(d.path / "s2.json"),
+                      Catch::Contains("/shapes/0/file") && Catch::Contains("not a regular file"));
+    CHECK_THROWS_WITH(wp::load_json_scene(d.path / "missing.json"),
+                      Catch::Contains("missing.json") && Catch::Contains("not found"));
+}
+
+TEST_CASE("json scene: a scene without light warns and still loads", "[scene][json][parser]") {
+    Scene s = parse(R"({"materials": {"grey": {"type": "diffuse"}},
+                        "shapes": [{"type": "quad", "size": 1, "material": "grey"}]})");
+    REQUIRE(s.warnings.size() == 1);
+    CHECK(has(s.warnings[0], "dir/t.json: no light"));
+    // An emitter or a background is light enough
+    Scene b = parse(R"({"background": [0, 0, 0.5], "materials": {"grey": {"type": "diffuse"}},
+                        "shapes": [{"type": "quad", "size": 1, "material": "grey"}]})");
+    CHECK(b.warnings.empty());
+    // An emissive material that no triangle uses is no light
+    Scene u = parse(R"({"materials": {"grey": {"type": "diffuse"}, "lamp": {"type": "diffuse", "emission": 3}},
+                        "shapes": [{"type": "quad", "size": 1, "material": "grey"}]})");
+    CHECK(u.warnings.size() == 2);
+}
+
+TEST_CASE("json scene: arbitrary bytes give a Scene or a wp::Error, nothing else",
+          "[scene][json][parser]") {
+    // Every prefix of a real scene and random mutations of it (no file references, so
+    // nothing is read): the contract the fuzzer checks, at test size.
+    const std::string base = read_file(repo_scene("showcase.json"));
+    REQUIRE(base.size() > 100);
+    int scenes = 0, errors = 0;
+    auto attempt = [&](const std::string& text) {
+        try {
+            Scene s = wp::parse_json_scene(text, "fuzz.json");
+            CHECK(s.triangle_count() > 0);
+            ++scenes;
+        } catch (const wp::Error&) {
+            ++errors;
+        }
+    };
+    for (std::size_t n = 0; n < base.size(); n += 7) attempt(base.substr(0, n));
+    wp::SplitMix64 rng(12345);
+    const char alphabet[] = "{}[]\",:0123456789.-+eE tfn\\u\x01\xff";
+    for (int i = 0; i < 1500; ++i) {
+        std::string t = base;
+        const int edits = 1 + int(rng.next() % 4);
+        for (int e = 0; e < edits; ++e) {
+            std::size_t at = std::size_t(rng.next() % t.size());
+            char c = alphabet[rng.next() % (sizeof alphabet - 1)];
+            switch (rng.next() % 3) {
+            case 0: t[at] = c; break;
+            case 1: t.insert(t.begin() + long(at), c); break;
+            default: t.erase(at, 1 + rng.next() % 8); break;
+            }
+        }
+        attempt(t);
+    }
+    CHECK(scenes > 0);
+    CHECK(errors > 0);
+}
+
+TEST_CASE("json scene: cornell-box.json renders the built-in box's image", "[scene][json][render]") {
+    Scene j = wp::load_json_scene(repo_scene("cornell-box.json"));
+    Scene b = wp::make_cornell_box();
+    auto render = [](const Scene& scene) {
+        wp::render::RenderSettings s;
+        s.width = 40;
+        s.height = 30;
+        s.depth = 3;
+        s.seed = 17;
+        wp::render::Wavefront wf(wp::test::device(), scene, s);
+        wp::render::LoopOptions lo;
+        lo.spp = 4;
+        wp::render::render_frames(wf, lo, nullptr);
+        return wf.film();
+    };
+    auto fj = render(j);
+    auto fb = render(b);
+    REQUIRE(fj.size() == fb.size());
+    REQUIRE(fj.size() == 40u * 30u);
+    // Same triangles, materials and camera, same seed: bit-identical films
+    CHECK(std::memcmp(fj.data(), fb.data(), fj.size() * sizeof(fj[0])) == 0);
+    double sum = 0.0;
+    for (const auto& p : fb) sum += double(p.sum.x) + p.sum.y + p.sum.z;
+    CHECK(sum > 0.0);  // not a black image compared with a black image
+}

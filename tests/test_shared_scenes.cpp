@@ -1,0 +1,177 @@
+// test_shared_scenes.cpp — every public scene in ../shared/scenes loads, its triangle counts
+// match the folder's README table and each meshes.csv row, and it renders at a tiny size
+// without NaN/Inf. Skipped with a message when the folder is absent.
+//
+// A scene's triangles: with meshes.csv and inline-shapes.obj (PLY scenes), the PLYs plus the
+// inline OBJ; otherwise the scene's own OBJ (<name>.obj, or the only .obj there).
+#include <catch2/catch.hpp>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <regex>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "render/loop.h"
+#include "render/wavefront.h"
+#include "scene/load.h"
+#include "support.h"
+
+namespace fs = std::filesystem;
+using namespace wp;
+
+namespace {
+
+bool have_shared() {
+    std::error_code ec;
+    return fs::is_directory(WP_SHARED_SCENES, ec);
+}
+
+// README table: scene -> expected total triangles ("126,048 (+2 floor)" -> 126,050)
+std::map<std::string, long> readme_counts() {
+    std::ifstream in(fs::path(WP_SHARED_SCENES) / "README.md");
+    std::map<std::string, long> out;
+    std::string line;
+    const std::regex row(R"(^\| \[([a-z0-9-]+)\]\([^)]*\) \| ([0-9,]+)( \(\+([0-9,]+)[^)]*\))?)");
+    auto num = [](std::string s) {
+        s.erase(std::remove(s.begin(), s.end(), ','), s.end());
+        return std::stol(s);
+    };
+    std::smatch m;
+    while (std::getline(in, line))
+        if (std::regex_search(line, m, row))
+            out[m[1]] = num(m[2]) + (m[4].matched ? num(m[4]) : 0);
+    return out;
+}
+
+struct CsvRow {
+    std::string ply;
+    long triangles = 0;
+    glm::mat4 to_world{1.0f};
+};
+
+std::vector<CsvRow> read_csv(const fs::path& p) {
+    std::ifstream in(p);
+    std::string line;
+    std::getline(in, line);  // header
+    std::vector<CsvRow> rows;
+    while (std::getline(in, line)) {
+        if (line.empty()) continue;
+        std::vector<std::string> f;
+        std::stringstream ss(line);
+        std::string cell;
+        while (std::getline(ss, cell, ',')) f.push_back(cell);
+        if (line.back() == ',') f.push_back("");
+        REQUIRE(f.size() == 9);
+        CsvRow r;
+        r.ply = f[0];
+        r.triangles = std::stol(f[5]);
+        if (!f[8].empty()) {
+            std::stringstream ms(f[8]);
+            float v[12];
+            for (float& x : v) ms >> x;
+            for (int row = 0; row < 3; ++row)
+                for (int col = 0; col < 4; ++col) r.to_world[col][row] = v[4 * row + col];
+        }
+        rows.push_back(r);
+    }
+    return rows;
+}
+
+Camera frame(const Scene& s) {
+    Aabb b = s.bounds();
+    Camera c;
+    const float radius = std::max(0.5f * glm::length(b.extent()), 1e-3f);
+    c.target = b.center();
+    c.position = c.target + glm::vec3(0.0f, 0.0f, radius / std::sin(glm::radians(20.0f)));
+    return c;
+}
+
+void render_check(const Scene& scene, const std::string& what) {
+    render::RenderSettings s;
+    s.width = 32;
+    s.height = 24;
+    s.depth = 2;
+    s.seed = 1;
+    render::Wavefront wf(test::device(), scene, s);
+    render::LoopOptions lo;
+    lo.spp = 2;
+    render::render_frames(wf, lo, nullptr);
+    Image img = wf.resolve();
+    std::size_t bad = 0;
+    for (float v : img.rgb)
+        if (!std::isfinite(v)) ++bad;
+    INFO(what);
+    CHECK(bad == 0);
+    auto c = wf.counters();
+    CHECK(c[WP_COUNTER_GENERATE_NONFINITE] == 0);
+    CHECK(c[WP_COUNTER_SHADE_NONFINITE] == 0);
+    CHECK(c[WP_COUNTER_ACCUMULATE_NONFINITE] == 0);
+}
+
+}  // namespace
+
+TEST_CASE("shared scenes: every OBJ and PLY loads, counts match the README and meshes.csv, "
+          "each renders finite",
+          "[scene][shared][slow]") {
+    if (!have_shared()) {
+        WARN("SKIP: " WP_SHARED_SCENES " does not exist (the shared public scenes are not here)");
+        return;
+    }
+    const auto expected = readme_counts();
+    REQUIRE(expected.size() >= 7);
+    double ply_seconds = 0.0;
+    std::size_t ply_files = 0;
+    for (const auto& [name, total] : expected) {
+        const fs::path dir = fs::path(WP_SHARED_SCENES) / name;
+        INFO("scene " << name);
+        REQUIRE(fs::is_directory(dir));
+
+        // Every OBJ in the folder loads
+        std::map<std::string, Scene> objs;
+        for (auto& e : fs::directory_iterator(dir))
+            if (lower_extension(e.path()) == ".obj") objs[e.path().filename().string()] = load_mesh_file(e.path());
+
+        long got = 0;
+        Scene assembled;
+        if (fs::exists(dir / "meshes.csv")) {
+            // Every PLY against its row; assembled with its transform
+            Material grey;
+            grey.albedo = glm::vec3(0.5f);
+            const auto mat = assembled.add_material(grey);
+            auto t0 = std::chrono::steady_clock::now();
+            for (const CsvRow& r : read_csv(dir / "meshes.csv")) {
+                Scene m = load_mesh_file(dir / r.ply);
+                INFO(r.ply);
+                CHECK(long(m.triangle_count()) == r.triangles);
+                got += long(m.triangle_count());
+                assembled.append(m, r.to_world, mat);
+                ++ply_files;
+            }
+            ply_seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+        }
+        if (objs.count("inline-shapes.obj")) {
+            got += long(objs["inline-shapes.obj"].triangle_count());
+            assembled.append(objs["inline-shapes.obj"], glm::mat4(1.0f));
+        } else {
+            const std::string main = objs.count(name + ".obj") ? name + ".obj" : objs.begin()->first;
+            REQUIRE(objs.count(main));
+            got = long(objs[main].triangle_count());
+        }
+        CHECK(got == total);
+
+        // Render: every OBJ, and the assembled PLY scene
+        for (const auto& [file, s] : objs) render_check(s, name + "/" + file);
+        if (!assembled.triangles.empty()) {
+            assembled.name = name + " (assembled)";
+            assembled.camera = frame(assembled);
+            render_check(assembled, assembled.name);
+        }
+    }
+    WARN("loaded " << ply_files << " PLY files in " << ply_seconds << " s");
+}
