@@ -121,3 +121,21 @@ TEST_CASE("render CLI: --debug-nan reports the count caught by each stage", "[re
     CHECK(j["nonfinite"]["shade"] == 92);
     CHECK(j["nonfinite"]["accumulate"] == 92);
 }
+
+// Issue 7: loading reports what it found. A hand-written OBJ: 2 quads (4 triangles), one
+// diffuse and one emissive material, known bounds.
+TEST_CASE("render CLI: loading a scene file reports triangles, materials, emitters, bounds, time",
+          "[render][cli][scene]") {
+    TempDir d;
+    d.write("two.mtl", "newmtl white\nKd 0.5 0.5 0.5\nnewmtl lamp\nKd 0 0 0\nKe 4 4 4\n");
+    d.write("two.obj",
+            "mtllib two.mtl\nv -1 0 -1\nv 1 0 -1\nv 1 0 1\nv -1 0 1\n"
+            "v -0.5 2 -0.5\nv 0.5 2 -0.5\nv 0.5 2 0.5\nv -0.5 2 0.5\n"
+            "usemtl white\nf 1 4 3 2\nusemtl lamp\nf 5 6 7 8\n");
+    Run r = run_cli(d, "two.obj --size 8x6 --spp 1 -o out.png");
+    INFO(r.err);
+    REQUIRE(r.status == 0);
+    CHECK(r.err.find("two.obj: 4 triangles, materials 2 diffuse, 1 emissive material (2 triangles), "
+                     "background (0, 0, 0), bounds (-1, 0, -1) to (1, 2, 1), loaded in ") != std::string::npos);
+    CHECK(r.err.find(" ms\n") != std::string::npos);
+}
