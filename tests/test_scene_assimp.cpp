@@ -1,4 +1,4 @@
-// test_scene_assimp.cpp — PLY, STL and OFF through the Assimp loader, against hand-written
+// test_scene_assimp.cpp — PLY and STL through the Assimp loader (OFF refused), against hand-written
 // files with known vertices and faces; bad input (truncated, NaN, out-of-range indices) must
 // fail with the file name and the place; every prefix of a file loads or fails cleanly.
 #include <catch2/catch.hpp>
@@ -244,7 +244,7 @@ TEST_CASE("assimp: every prefix of a PLY file loads or fails with wp::Error",
     }
 }
 
-TEST_CASE("assimp: STL and OFF files load with the default material", "[scene][assimp][parser]") {
+TEST_CASE("assimp: STL files load with the default material; OFF is refused", "[scene][assimp][parser]") {
     const std::string stl =
         "solid t\nfacet normal 0 0 1\nouter loop\nvertex 0 0 0\nvertex 2 0 0\nvertex 0 3 0\n"
         "endloop\nendfacet\nfacet normal 0 0 1\nouter loop\nvertex 0 0 1\nvertex 1 0 1\nvertex 0 1 1\n"
@@ -258,11 +258,12 @@ TEST_CASE("assimp: STL and OFF files load with the default material", "[scene][a
     CHECK(s.bounds().lo == glm::vec3(0, 0, 0));
     CHECK(s.bounds().hi == glm::vec3(2, 3, 1));
 
+    // OFF: Assimp 5.2's importer reads out of bounds on a face with more corners than the
+    // file has vertices (fuzz_assimp), so wavepath refuses .off with a message saying why.
     const std::string off = "OFF\n4 1 0\n0 0 0\n1 0 0\n1 1 0\n0 1 0\n4 0 1 2 3\n";
-    Scene o = parse_assimp(off, "off", "quad.off");
-    REQUIRE(o.triangles.size() == 2);
-    CHECK(area(o) == Approx(1.0));
-    CHECK(o.warnings.empty());
+    std::string e = error_of([&] { parse_assimp(off, "off", "quad.off"); });
+    CHECK_THAT(e, Contains("quad.off"));
+    CHECK_THAT(e, Contains(".off is refused"));
 }
 
 TEST_CASE("assimp: a truncated binary STL fails with the file name", "[scene][assimp][parser]") {

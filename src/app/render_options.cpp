@@ -89,7 +89,7 @@ render::RenderSettings make_settings(const ConfigArgs& a, const Scene& scene) {
 
 const char* const kSceneArgHelp =
     "Scene: a wavepath scene file (.json), a Mitsuba 3 scene (.xml), a mesh file (.obj with its "
-    ".mtl, .gltf, .glb, .ply, .stl, .off, .3ds, .dae, .fbx), or builtin:cornell-box (the "
+    ".mtl, .gltf, .glb, .ply, .stl, .3ds, .dae, .fbx), or builtin:cornell-box (the "
     "default), builtin:closed-box-furnace, builtin:veach-plates";
 
 namespace {

@@ -1,4 +1,5 @@
 #include "scene/assimp_loader.h"
+#include "scene/load.h"
 
 #include <algorithm>
 #include <array>
@@ -497,6 +498,11 @@ Scene parse_assimp(std::string_view bytes, const std::string& extension,
     if (ext.empty() || ext.size() > 8 ||
         !std::all_of(ext.begin(), ext.end(), [](char c) { return std::isalnum(static_cast<unsigned char>(c)); }))
         fail("{}: unsupported mesh file extension '{}'", file, printable(extension));
+    if (!is_assimp_extension("." + ext))
+        fail("{}: format '.{}' is not read through Assimp (supported: .ply, .stl, .3ds, .dae, "
+             ".fbx; .off is refused: Assimp 5.2's OFF importer reads out of bounds on a face "
+             "with more corners than the file has)",
+             file, ext);
     if (bytes.empty()) fail("{}: the file is empty", file);
     if (bytes.size() > kMaxFileBytes)
         fail("{}: the file is {} bytes, more than the limit of {}", file, bytes.size(), kMaxFileBytes);
