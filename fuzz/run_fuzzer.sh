@@ -22,17 +22,20 @@ export ASAN_OPTIONS="halt_on_error=1:abort_on_error=1:detect_leaks=1:allocator_m
 export UBSAN_OPTIONS="halt_on_error=1:print_stacktrace=1:${UBSAN_OPTIONS:-}"
 export LSAN_OPTIONS="suppressions=$here/lsan.supp:print_suppressions=0:${LSAN_OPTIONS:-}"
 # -max_len: small inputs reach the parsers' corners fastest; 16 KiB still fits every seed.
-# -seed: a fixed random seed (WP_FUZZ_SEED, default 1), so that a CI run is reproducible:
-# the same binary and corpus explore the same inputs in the same order (a slower machine
-# explores a prefix of them); fuzz longer or with other seeds by hand to find new bugs.
-"$bin" "${dict[@]}" -seed="${WP_FUZZ_SEED:-1}" -max_total_time="$seconds" -timeout=5 -rss_limit_mb=2048 \
+# -seed and -runs: a fixed random seed (WP_FUZZ_SEED, default 1) and a fixed number of
+# inputs (WP_FUZZ_RUNS, default 100,000), so that a CI run is reproducible: the same binary
+# and corpus explore the same inputs on any machine (a time limit alone let a faster run go
+# further and find what the previous one had not). SECONDS stays as a cap. Fuzz longer or
+# with other seeds by hand to find new bugs.
+"$bin" "${dict[@]}" -seed="${WP_FUZZ_SEED:-1}" -runs="${WP_FUZZ_RUNS:-100000}" \
+  -max_total_time="$seconds" -timeout=5 -rss_limit_mb=2048 \
   -malloc_limit_mb=1024 -max_len=16384 -print_final_stats=1 \
   -artifact_prefix="$scratch/artifacts/" "$scratch/corpus" >"$scratch/log" 2>&1
 rc=$?
 found=$(find "$scratch/artifacts" -type f | wc -l)
 if [ "$rc" -eq 0 ] && [ "$found" -eq 0 ]; then
   grep -E '^(#[0-9]+ +DONE|Done [0-9]+ runs|stat::number_of_executed_units|stat::peak_rss_mb)' "$scratch/log"
-  echo "fuzz_$name: no crash, leak, hang or sanitizer report in ${seconds} s"
+  echo "fuzz_$name: no crash, leak, hang or sanitizer report in ${WP_FUZZ_RUNS:-100000} inputs (seed ${WP_FUZZ_SEED:-1})"
   exit 0
 fi
 

@@ -7,7 +7,8 @@
 #            parser tests and the fuzz replays, runs the "[parser]" tests and the replays;
 #            any sanitizer report fails
 #   fuzz     the libFuzzer targets (clang, build/fuzz): each parser fuzzed for
-#            WP_FUZZ_SECONDS (default 20) from its seeds; any crash, leak, hang (> 5 s for
+#            WP_FUZZ_RUNS inputs (default 100000, seed WP_FUZZ_SEED = 1: reproducible;
+#            at most WP_FUZZ_SECONDS, default 120) from its seeds; any crash, leak, hang (> 5 s for
 #            one input), out-of-memory or sanitizer report fails. Skipped, with a message,
 #            where clang++ or libFuzzer is missing.
 # WP_TEST_STAGES picks stages (default "release asan fuzz"); WP_PRESET the first one's preset.
@@ -68,7 +69,7 @@ stage_fuzz() {
   fi
   rm -rf "$probe"
   CXX=clang++ cmake -S "$root/fuzz" -B "$root/build/fuzz" -G Ninja \
-    -DCMAKE_BUILD_TYPE=RelWithDebInfo -DWP_FUZZ_SECONDS="${WP_FUZZ_SECONDS:-20}" >/dev/null &&
+    -DCMAKE_BUILD_TYPE=RelWithDebInfo -DWP_FUZZ_SECONDS="${WP_FUZZ_SECONDS:-120}" >/dev/null &&
     cmake --build "$root/build/fuzz" &&
     (cd "$root/build/fuzz" && ctest --output-on-failure -j "$jobs")
 }

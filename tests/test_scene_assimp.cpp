@@ -303,3 +303,13 @@ TEST_CASE("assimp: a binary PLY whose data starts with a whitespace byte is read
     CHECK(sc.triangles[5] == glm::uvec3(0, 2, 3));
     CHECK(sc.warnings.empty());
 }
+
+// Found by fuzz_assimp: Assimp 5.2 reads an element name that starts with a digit as a count
+// (a name of twenty 9s made it allocate 100 GB). Such names are refused with file and line.
+TEST_CASE("assimp: a PLY element name that starts with a digit is refused", "[scene][assimp][parser]") {
+    std::string ply = "ply\nformat ascii 1.0\nelement 99999999999999999999vertex 3\nproperty float x\n"
+                      "property float y\nproperty float z\nelement face 0\n"
+                      "property list uchar int vertex_indices\nend_header\n0 0 0\n1 0 0\n0 1 0\n";
+    CHECK_THAT(error_of([&] { parse_assimp(ply, "ply", "digits.ply"); }),
+               Contains("digits.ply:3: PLY element name '99999999999999999999vertex' must start with a letter"));
+}

@@ -299,3 +299,21 @@ TEST_CASE("parse_obj: mtllib is read beside the origin and only from regular fil
         CHECK(has_warning(s, fmt::format("material library '{}' not found", lib)));
     }
 }
+
+// Found by fuzz_obj: tinyobjloader's number parser overflows a signed int (undefined
+// behaviour) on a 10-digit exponent. Such numbers are refused with the file and line, in the
+// OBJ and in its MTL, before tinyobjloader reads them; ordinary exponents still load.
+TEST_CASE("obj: numbers with huge exponents are refused before tinyobjloader sees them", "[scene][obj][parser]") {
+    CHECK_THAT(error_of([] { wp::parse_obj("v 0 0 0\nv 1 0 0\nvt 1e2147483648 0\nv 0 1 0\nf 1 2 3\n", "big.obj"); }),
+               Contains("big.obj:3: number '1e2147483648' is out of range"));
+    wp::MtlSource mtl = [](const std::string& name) -> std::optional<std::string> {
+        if (name == "m.mtl") return std::string("newmtl a\nKd 0.5 0.5 1e-2147483648\n");
+        return std::nullopt;
+    };
+    CHECK_THAT(error_of([&] {
+                   wp::parse_obj("mtllib m.mtl\nv 0 0 0\nv 1 0 0\nv 0 1 0\nusemtl a\nf 1 2 3\n", "m.obj", mtl);
+               }),
+               Contains("m.mtl:2: number '1e-2147483648' is out of range"));
+    wp::Scene s = wp::parse_obj("v 0 0 0\nv 1e0 0 0\nv 0 1.0E+000 0\nf 1 2 3\n", "ok.obj");
+    CHECK(s.triangle_count() == 1);
+}

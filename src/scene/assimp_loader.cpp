@@ -150,6 +150,11 @@ PlyHeader parse_ply_header(std::string_view bytes, const std::string& file) {
         if (key == "element") {
             if (tok.size() != 3)
                 fail("{}:{}: PLY 'element' line needs a name and a count", file, line_no);
+            // (Assimp 5.2 reads a name that starts with a digit as a count: a name of twenty
+            // 9s made it allocate 100 GB; found by fuzz_assimp)
+            if (!(std::isalpha(static_cast<unsigned char>(tok[1][0])) || tok[1][0] == '_'))
+                fail("{}:{}: PLY element name '{}' must start with a letter or '_'", file, line_no,
+                     printable(tok[1]));
             PlyElement e;
             e.name = std::string(tok[1]);
             auto [end, ec] = std::from_chars(tok[2].data(), tok[2].data() + tok[2].size(), e.count);

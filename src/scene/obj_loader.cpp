@@ -1,6 +1,7 @@
 #include "scene/obj_loader.h"
 
 #include <algorithm>
+#include <cctype>
 #include <charconv>
 #include <cmath>
 #include <fstream>
@@ -42,6 +43,27 @@ std::vector<std::string_view> tokens(std::string_view line) {
     return out;
 }
 
+// tinyobjloader's number parser overflows a signed int (undefined behaviour) on an exponent
+// of 10 digits, e.g. "1e2147483648" (found by fuzz_obj). Every token of a line that looks
+// like a number with an exponent of more than 6 digits is refused before it gets there.
+void check_exponents(const std::vector<std::string_view>& tok, const std::string& file,
+                     std::size_t line_no) {
+    for (auto t : tok) {
+        std::size_t e = t.find_first_of("eE");
+        if (e == std::string_view::npos || e == 0) continue;
+        char before = t[e - 1];
+        if (!(std::isdigit(static_cast<unsigned char>(before)) || before == '.')) continue;
+        std::size_t k = e + 1;
+        if (k < t.size() && (t[k] == '+' || t[k] == '-')) ++k;
+        std::size_t digits = 0;
+        while (k + digits < t.size() && std::isdigit(static_cast<unsigned char>(t[k + digits])))
+            ++digits;
+        if (digits > 6)
+            fail("{}:{}: number '{}' is out of range (its exponent has {} digits)", file, line_no,
+                 std::string(t.substr(0, 40)), digits);
+    }
+}
+
 // Checks the raw text before tinyobjloader sees it: tinyobjloader reads "nan" or garbage
 // as 0, and turns out-of-range face indices into out-of-range shape indices (or silently
 // drops the face), without a line number. Here every `v` must have 3 finite coordinates and
@@ -68,6 +90,7 @@ std::string checked_obj_text(std::string_view input, const std::string& file,
         pos = eol + 1;
         ++line_no;
         auto tok = tokens(line);
+        check_exponents(tok, file, line_no);
         // Geometry lines without their comment tail; other lines (names may hold '#') as is
         static constexpr std::string_view kGeometry[] = {"v", "vt", "vn", "vp", "f", "l", "p"};
         if (!tok.empty() &&
@@ -172,6 +195,13 @@ class MtlReader : public tinyobj::MaterialReader {
                                      "of at most {} MiB)\n",
                                      name, kMaxMtlBytes >> 20);
             return false;
+        }
+        std::size_t line_no = 0, pos = 0;
+        while (pos < text->size()) {
+            std::size_t eol = text->find('\n', pos);
+            if (eol == std::string::npos) eol = text->size();
+            check_exponents(tokens(std::string_view(*text).substr(pos, eol - pos)), name, ++line_no);
+            pos = eol + 1;
         }
         std::istringstream in(std::move(*text));
         tinyobj::LoadMtl(names, materials, &in, warn, err);
