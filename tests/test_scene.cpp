@@ -21,6 +21,7 @@
 #include "scene/procedural.h"
 #include "scene/validate.h"
 #include "util/error.h"
+#include "util/read_file.h"
 #include "temp_dir.h"
 
 namespace fs = std::filesystem;
@@ -668,4 +669,18 @@ TEST_CASE("load_obj: bad files give one clear error with file and line", "[unit]
     msg = error_of(
         [&] { wp::load_obj(dir.write("points.obj", "# only points\nv 0 0 0\nv 1 0 0\n")); });
     CHECK_THAT(msg, Contains("points.obj") && Contains("no triangles"));
+}
+
+// util/read_file: what every loader reads its file with (hand-made files, known sizes).
+TEST_CASE("read_file: bytes, a size limit and one clear error", "[unit][scene][parser]") {
+    TempDir d;
+    fs::path ok = d.write("five.bin", std::string("ab\0cd", 5));
+    CHECK(wp::read_file(ok, 5) == std::string("ab\0cd", 5));
+    CHECK_THAT(error_of([&] { wp::read_file(ok, 4); }), Contains("five.bin") && Contains("more than the limit of 4"));
+    CHECK_THAT(error_of([&] { wp::read_file(d.path / "none.obj", 100); }), Contains("none.obj': no such file"));
+    CHECK_THAT(error_of([&] { wp::read_file(d.path, 100); }), Contains("not a regular file"));
+    CHECK(wp::try_read_file(ok, 5) == std::string("ab\0cd", 5));
+    CHECK_FALSE(wp::try_read_file(ok, 4).has_value());
+    CHECK_FALSE(wp::try_read_file(d.path / "none.obj", 100).has_value());
+    CHECK_FALSE(wp::try_read_file(d.path, 100).has_value());
 }

@@ -635,7 +635,7 @@ TEST_CASE("json scene: errors inside mesh files name both files", "[scene][json]
     CHECK_THROWS_WITH(wp::load_json_scene(d.path / "s2.json"),
                       Catch::Contains("/shapes/0/file") && Catch::Contains("not a regular file"));
     CHECK_THROWS_WITH(wp::load_json_scene(d.path / "missing.json"),
-                      Catch::Contains("missing.json") && Catch::Contains("not found"));
+                      Catch::Contains("missing.json") && Catch::Contains("no such file"));
 }
 
 TEST_CASE("json scene: a scene without light warns and still loads", "[scene][json][parser]") {

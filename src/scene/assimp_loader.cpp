@@ -8,7 +8,6 @@
 #include <charconv>
 #include <cmath>
 #include <cstring>
-#include <fstream>
 #include <limits>
 #include <optional>
 #include <vector>
@@ -20,6 +19,7 @@
 
 #include "scene/validate.h"
 #include "util/error.h"
+#include "util/read_file.h"
 
 namespace wp {
 
@@ -752,20 +752,7 @@ Scene parse_assimp(std::string_view bytes, const std::string& extension,
 }
 
 Scene load_assimp(const std::filesystem::path& path) {
-    const std::string file = path.string();
-    std::error_code ec;
-    if (!std::filesystem::exists(path, ec)) fail("cannot open '{}': no such file", file);
-    if (std::filesystem::is_directory(path, ec)) fail("cannot open '{}': it is a directory", file);
-    const auto size = std::filesystem::file_size(path, ec);
-    if (ec) fail("cannot open '{}': {}", file, ec.message());
-    if (size > kMaxFileBytes)
-        fail("{}: the file is {} bytes, more than the limit of {}", file, size, kMaxFileBytes);
-    std::ifstream in(path, std::ios::binary);
-    if (!in) fail("cannot open '{}'", file);
-    std::string bytes(size, '\0');
-    in.read(bytes.data(), std::streamsize(size));
-    if (std::uint64_t(in.gcount()) != size) fail("cannot read '{}' ({} of {} bytes)", file, in.gcount(), size);
-    return parse_assimp(bytes, path.extension().string(), path);
+    return parse_assimp(read_file(path, kMaxFileBytes), path.extension().string(), path);
 }
 
 }  // namespace wp

@@ -4,7 +4,6 @@
 #include <cctype>
 #include <cmath>
 #include <cstring>
-#include <fstream>
 #include <optional>
 
 #include <glm/gtc/matrix_transform.hpp>
@@ -24,6 +23,7 @@
 
 #include "scene/validate.h"
 #include "util/error.h"
+#include "util/read_file.h"
 
 namespace wp {
 
@@ -83,23 +83,12 @@ bool fs_exists(const std::string& name, void*) {
 }
 std::string fs_expand(const std::string& name, void*) { return name; }
 bool fs_read(std::vector<unsigned char>* out, std::string* err, const std::string& name, void*) {
-    std::error_code ec;
-    if (!fs::is_regular_file(name, ec)) {
-        if (err) *err += "'" + name + "' is not a regular file\n";
+    std::optional<std::string> bytes = try_read_file(name, kMaxFileBytes);
+    if (!bytes) {
+        if (err) *err += "'" + name + "' is not a regular file, unreadable or larger than 1 GiB\n";
         return false;
     }
-    const auto size = fs::file_size(name, ec);
-    if (ec || size > kMaxFileBytes) {
-        if (err) *err += "'" + name + "' is unreadable or larger than 1 GiB\n";
-        return false;
-    }
-    std::ifstream in(name, std::ios::binary);
-    out->assign(size, 0);
-    if (size > 0) in.read(reinterpret_cast<char*>(out->data()), std::streamsize(size));
-    if (!in || std::uint64_t(in.gcount()) != size) {
-        if (err) *err += "cannot read '" + name + "'\n";
-        return false;
-    }
+    out->assign(bytes->begin(), bytes->end());
     return true;
 }
 bool fs_write(std::string* err, const std::string&, const std::vector<unsigned char>&, void*) {
@@ -584,20 +573,7 @@ Scene parse_gltf(std::string_view bytes, const fs::path& origin) {
 }
 
 Scene load_gltf(const fs::path& path) {
-    const std::string file = path.string();
-    std::error_code ec;
-    if (!fs::exists(path, ec)) fail("cannot open '{}': no such file", file);
-    if (fs::is_directory(path, ec)) fail("cannot open '{}': it is a directory", file);
-    const auto size = fs::file_size(path, ec);
-    if (ec) fail("cannot open '{}': {}", file, ec.message());
-    if (size > kMaxFileBytes)
-        fail("{}: the file is {} bytes, more than the limit of {}", file, size, kMaxFileBytes);
-    std::ifstream in(path, std::ios::binary);
-    if (!in) fail("cannot open '{}'", file);
-    std::string bytes(size, '\0');
-    in.read(bytes.data(), std::streamsize(size));
-    if (std::uint64_t(in.gcount()) != size) fail("cannot read '{}'", file);
-    return parse_gltf(bytes, path);
+    return parse_gltf(read_file(path, kMaxFileBytes), path);
 }
 
 }  // namespace wp

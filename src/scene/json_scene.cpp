@@ -4,7 +4,6 @@
 #include <array>
 #include <cctype>
 #include <cmath>
-#include <fstream>
 #include <limits>
 #include <map>
 #include <optional>
@@ -22,6 +21,7 @@
 #include "scene/procedural.h"
 #include "scene/validate.h"
 #include "util/error.h"
+#include "util/read_file.h"
 
 namespace wp {
 
@@ -1192,22 +1192,7 @@ Scene parse_json_scene(std::string_view text, const fs::path& origin) {
 }
 
 Scene load_json_scene(const fs::path& path) {
-    std::error_code ec;
-    if (!fs::exists(path, ec)) fail("scene file '{}' not found", path.string());
-    if (fs::is_directory(path, ec)) fail("scene file '{}' is a folder", path.string());
-    std::ifstream in(path, std::ios::binary);
-    if (!in) fail("cannot open scene file '{}'", path.string());
-    // Read at most one byte past the limit (special files may not know their size)
-    std::string text;
-    char buf[1 << 16];
-    while (in && text.size() <= kJsonSceneMaxBytes) {
-        in.read(buf, sizeof buf);
-        text.append(buf, std::size_t(in.gcount()));
-    }
-    if (in.bad()) fail("cannot read scene file '{}'", path.string());
-    if (text.size() > kJsonSceneMaxBytes)
-        fail("scene file '{}' is larger than the limit of {} bytes", path.string(),
-             kJsonSceneMaxBytes);
+    std::string text = read_file(path, kJsonSceneMaxBytes);
     return parse_json_scene(text, path);
 }
 

@@ -5,11 +5,9 @@
 #include <charconv>
 #include <cmath>
 #include <cstdint>
-#include <fstream>
 #include <numbers>
 #include <optional>
 #include <set>
-#include <sstream>
 #include <utility>
 #include <vector>
 
@@ -21,6 +19,7 @@
 #include "scene/procedural.h"
 #include "scene/validate.h"
 #include "util/error.h"
+#include "util/read_file.h"
 
 namespace wp {
 
@@ -1450,21 +1449,7 @@ Scene parse_mitsuba(std::string_view xml, const fs::path& origin) {
 }
 
 Scene load_mitsuba(const fs::path& path, const MitsubaParams& params) {
-    std::error_code ec;
-    if (!fs::exists(path, ec)) fail("cannot open '{}': no such file", path.string());
-    if (!fs::is_regular_file(path, ec)) fail("cannot open '{}': not a regular file", path.string());
-    auto size = fs::file_size(path, ec);
-    if (ec) fail("cannot read '{}': {}", path.string(), ec.message());
-    if (size > kMaxFileBytes)
-        fail("'{}': {} bytes is larger than the {} MiB a scene file may have", path.string(), size,
-             kMaxFileBytes >> 20);
-    std::ifstream in(path, std::ios::binary);
-    if (!in) fail("cannot open '{}'", path.string());
-    std::ostringstream ss;
-    ss << in.rdbuf();
-    if (in.bad()) fail("cannot read '{}'", path.string());
-    std::string text = ss.str();
-    return parse_mitsuba(text, path, params);
+    return parse_mitsuba(read_file(path, kMaxFileBytes), path, params);
 }
 
 Scene load_mitsuba(const fs::path& path) {

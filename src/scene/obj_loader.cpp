@@ -4,7 +4,6 @@
 #include <cctype>
 #include <charconv>
 #include <cmath>
-#include <fstream>
 #include <map>
 #include <sstream>
 #include <string_view>
@@ -13,6 +12,7 @@
 
 #include "scene/validate.h"
 #include "util/error.h"
+#include "util/read_file.h"
 
 namespace wp {
 
@@ -168,16 +168,7 @@ MtlSource mtl_files_beside(const std::filesystem::path& origin) {
     namespace fs = std::filesystem;
     const fs::path dir = origin.parent_path().empty() ? fs::path(".") : origin.parent_path();
     return [dir](const std::string& name) -> std::optional<std::string> {
-        const fs::path p = dir / name;
-        std::error_code ec;
-        if (!fs::is_regular_file(fs::status(p, ec)) || ec) return std::nullopt;
-        const std::uintmax_t size = fs::file_size(p, ec);
-        if (ec || size > kMaxMtlBytes) return std::nullopt;
-        std::ifstream in(p, std::ios::binary);
-        if (!in) return std::nullopt;
-        std::ostringstream buf;
-        buf << in.rdbuf();
-        return std::move(buf).str();
+        return try_read_file(dir / name, kMaxMtlBytes);
     };
 }
 
@@ -407,20 +398,7 @@ bool triangulate_polygon(const std::vector<glm::vec3>& pos, const std::vector<st
 } // namespace
 
 Scene load_obj(const std::filesystem::path& path) {
-    const std::string file = path.string();
-    std::error_code ec;
-    if (!std::filesystem::exists(path, ec)) fail("cannot open '{}': no such file", file);
-    if (std::filesystem::is_directory(path, ec)) fail("cannot open '{}': it is a directory", file);
-    const std::uintmax_t size = std::filesystem::file_size(path, ec);
-    if (!ec && size > kMaxObjBytes)
-        fail("{}: the file is {} bytes; OBJ files over {} GiB are refused", file, size,
-             kMaxObjBytes >> 30);
-    std::ifstream in(path, std::ios::binary);
-    if (!in) fail("cannot open '{}'", file);
-    std::ostringstream buf;
-    buf << in.rdbuf();
-    if (in.bad()) fail("cannot read '{}'", file);
-    return parse_obj(buf.str(), path);
+    return parse_obj(read_file(path, kMaxObjBytes), path);
 }
 
 Scene parse_obj(std::string_view input, const std::filesystem::path& origin) {
