@@ -21,6 +21,7 @@
 
 #define WP_KERNEL __kernel
 #define WP_GLOBAL __global
+#define WP_LOCAL __local
 #define WP_CONSTANT __constant
 #define WP_FN static inline
 #define WP_NAMESPACE_BEGIN
@@ -33,11 +34,15 @@
 #define make_float2(a, b) ((float2)((a), (b)))
 
 #define wp_global_id() ((int)get_global_id(0))
+#define wp_local_id() ((int)get_local_id(0))
+// Work-group barrier over local memory (the only kind the stages use).
+#define wp_barrier() barrier(CLK_LOCAL_MEM_FENCE)
 // (a.z, a.w, a.x, a.y): swaps the two halves of a float4.
 #define wp_swap_halves(a) ((a).zwxy)
 // Permutes the lanes of a float4 by a per-ray index vector (vpermilps on AVX).
 #define wp_permute(a, idx) shuffle((a), (idx))
 #define wp_atomic_add(p, v) atomic_add((p), (v))
+#define wp_atomic_inc(p) atomic_inc((p))
 
 #else
 // ---------------------------------------------------------------- C++ host ----------

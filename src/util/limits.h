@@ -1,0 +1,35 @@
+// limits.h — the one definition of every limit and default of a render.
+//
+// The command line, every scene loader and the renderer read these; nothing else writes a
+// cap or a default of its own. Plain constants (no OpenCL, no GLM), so every room may
+// include it.
+#pragma once
+
+#include <cstdint>
+
+namespace wp::limits {
+
+// Samples per pixel: at least 1; the film's double-float sums keep 1e-7 relative accuracy
+// far beyond this (kernels/shared/film.h).
+constexpr int kMinSpp = 1;
+constexpr int kMaxSpp = 1 << 24;
+constexpr int kDefaultSpp = 64;
+
+// Bounces (scattering events) per path: 0 shows emitters and background only. The path
+// pool ends a wave when its queue is empty, so a deep cap costs nothing once Russian
+// roulette has ended every path; the cap keeps the sample-key arithmetic (bounce * 16 +
+// group, 32 bits) far from overflow.
+constexpr int kMinDepth = 0;
+constexpr int kMaxDepth = 1 << 20;
+constexpr int kDefaultDepth = 3;  // the original program's workload
+
+// Image size: each side 1..kMaxImageSide pixels, at most kMaxPixels pixels (16384^2).
+constexpr int kMaxImageSide = 16384;
+constexpr std::int64_t kMaxPixels = std::int64_t(1) << 28;
+constexpr int kDefaultWidth = 800;
+constexpr int kDefaultHeight = 600;
+
+// Russian roulette from this bounce on (-1: off).
+constexpr int kDefaultRrDepth = 3;
+
+}  // namespace wp::limits
