@@ -523,7 +523,7 @@ TEST_CASE("sampling: MTL illum 7 becomes glass (eta from Ni) and is compiled onl
 // deterministic quadrature of the BRDF's definition over microfacet normals,
 //   E = integral D(h) G2(o, i(h)) (o.h) / (cos theta_o) dh   (i = reflect(o, h), i.z > 0),
 // on a grid that inverts the CDF of D(h) cos theta_h. The loss 1 - E is single-scattering
-// GGX's missing multiple scattering: bounded, and documented in the README (printed here).
+// GGX's missing multiple scattering: bounded, and documented in docs/robustness.md (printed here).
 TEST_CASE("sampling: white GGX furnace per direction, grazing to normal (no energy gain)", "[unit][sampling][hard]") {
     const double kPi = 3.14159265358979323846;
     float3 ns = make_float3(0, 0, 1);
