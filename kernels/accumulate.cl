@@ -1,11 +1,17 @@
-// accumulate.cl — the accumulate stage: adds the frame's radiance into the film.
+// accumulate.cl — the accumulate stage: adds a wave's sample radiance into the film.
 //
+// A wave (generate.cl) holds `count` samples from pixel first_pixel on: item i belongs to
+// pixel first_pixel + (i mod pixel_count) when the wave is whole passes (first_pixel = 0),
+// else to pixel first_pixel + i. Work-item j takes pixel first_pixel + j and adds its items
+// j, j + pixel_count, j + 2 pixel_count, ... in that order, i.e. in sample order, so the
+// film's sums are the same bits whatever the wave sizes were.
 // accumulate_film
-//   reads   radiance[p] (this frame's sample of pixel p, written by generate and shade)
+//   reads   radiance[i] for i < count (written by generate, shade and shadow)
 //   writes  film[p] (FilmPixel: double-float running sum, film.h), counters
 //           [WP_COUNTER_ACCUMULATE_NONFINITE] when a sample is NaN/Inf (it is dropped, so
 //           NaN/Inf never reach the film)
-//   pushes  nothing. Launched over the pixel count; the host divides by the sample count.
+//   pushes  nothing. Launched over min(count, pixel_count) items; the host divides by the
+//           sample count.
 // accumulate_film_variance
 //   the same, and also film_sq[p] += x * x per channel (double-float running sum of
 //   squares), from which the host derives the sample variance and the variance of the
@@ -13,34 +19,40 @@
 //   plain renders neither square nor store the second buffer.
 #include "shared/film.h"
 
-__kernel void accumulate_film(__global const float4* radiance, int pixel_count,
-                              __global FilmPixel* film, __global int* counters) {
-    int p = wp_global_id();
-    if (p >= pixel_count) return;
-    float3 x = wp_xyz(radiance[p]);
+// Adds the wave's samples of one pixel; with film_sq also their squares.
+WP_FN void wp_accumulate_pixel(WP_GLOBAL const float4* radiance, int first_pixel, int count,
+                               int pixel_count, WP_GLOBAL FilmPixel* film,
+                               WP_GLOBAL int* counters, WP_GLOBAL FilmPixel* film_sq) {
+    int j = wp_global_id();
+    if (j >= min(count, pixel_count)) return;
+    int p = first_pixel + j;
+    FilmPixel sum = film[p];
+    FilmPixel sq = sum;
+    if (film_sq) sq = film_sq[p];
+    for (int i = j; i < count; i += pixel_count) {
+        float3 x = wp_xyz(radiance[i]);
 #if WP_INJECT_NAN
-    if (wp_inject_here(WP_INJECT_ACCUMULATE, p)) x.x = wp_quiet_nan();
+        if (wp_inject_here(WP_INJECT_ACCUMULATE, p)) x.x = wp_quiet_nan();
 #endif
-    if (!wp_all_finite3(x)) {
-        atomic_inc(&counters[WP_COUNTER_ACCUMULATE_NONFINITE]);
-        return;
+        if (!wp_all_finite3(x)) {
+            wp_atomic_inc(&counters[WP_COUNTER_ACCUMULATE_NONFINITE]);
+            continue;
+        }
+        sum = wp_film_add(sum, x);
+        if (film_sq) sq = wp_film_add_square(sq, x);
     }
-    film[p] = wp_film_add(film[p], x);
+    film[p] = sum;
+    if (film_sq) film_sq[p] = sq;
 }
 
-__kernel void accumulate_film_variance(__global const float4* radiance, int pixel_count,
-                                       __global FilmPixel* film, __global int* counters,
-                                       __global FilmPixel* film_sq) {
-    int p = wp_global_id();
-    if (p >= pixel_count) return;
-    float3 x = wp_xyz(radiance[p]);
-#if WP_INJECT_NAN
-    if (wp_inject_here(WP_INJECT_ACCUMULATE, p)) x.x = wp_quiet_nan();
-#endif
-    if (!wp_all_finite3(x)) {
-        atomic_inc(&counters[WP_COUNTER_ACCUMULATE_NONFINITE]);
-        return;
-    }
-    film[p] = wp_film_add(film[p], x);
-    film_sq[p] = wp_film_add_square(film_sq[p], x);
+WP_KERNEL void accumulate_film(WP_GLOBAL const float4* radiance, int first_pixel, int count,
+                               int pixel_count, WP_GLOBAL FilmPixel* film,
+                               WP_GLOBAL int* counters) {
+    wp_accumulate_pixel(radiance, first_pixel, count, pixel_count, film, counters, 0);
+}
+
+WP_KERNEL void accumulate_film_variance(WP_GLOBAL const float4* radiance, int first_pixel,
+                                        int count, int pixel_count, WP_GLOBAL FilmPixel* film,
+                                        WP_GLOBAL int* counters, WP_GLOBAL FilmPixel* film_sq) {
+    wp_accumulate_pixel(radiance, first_pixel, count, pixel_count, film, counters, film_sq);
 }

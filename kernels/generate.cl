@@ -1,25 +1,34 @@
-// generate.cl — the generate stage: one camera ray and a fresh path per pixel.
+// generate.cl — the generate stage: camera rays and fresh paths for one wave of samples.
 //
-// reads   camera (CameraData), seed, sample (the frame's sample index)
-// writes  rays[p], paths[p] for every pixel p = y * width + x (queue slot p), radiance[p]
-//         = 0 (the frame's per-pixel radiance, filled by shade), counters on NaN/Inf
-// pushes  all width * height paths: queue_count[0] = width * height
-// Launched over width * height items (padded); items past the pixel count return at once.
-// The pixel jitter comes from the counter-based generator (rng.h) keyed by the pixel and
-// sample, so the rays do not depend on scheduling.
+// The samples of a render are the sequence s = sample * pixel_count + pixel (every pixel's
+// sample 0, then every pixel's sample 1, ...). A wave is `count` consecutive samples
+// starting at pixel first_pixel of sample first_sample: whole passes (first_pixel = 0,
+// count = k * pixel_count) or a part of one pass (first_pixel + count <= pixel_count).
+// reads   camera (CameraData), seed, first_pixel, first_sample, count
+// writes  rays[i], paths[i] for every item i < count of the wave (queue slot i; the path
+//         keeps its pixel, sample and item), radiance[i] = 0 (the sample's radiance, filled
+//         by shade and shadow), counters on NaN/Inf
+// pushes  all `count` paths: queue_count[0] = count
+// Launched over count items (padded); items past it return at once. The pixel jitter comes
+// from the sample key (rng.h: seed, pixel, sample), so the rays do not depend on the wave.
 #include "shared/camera.h"
 #include "shared/film.h"
 #include "shared/rng.h"
 
-__kernel void generate_camera(CameraData camera, uint seed, uint sample,
-                              __global Ray* rays, __global PathState* paths,
-                              __global float4* radiance, __global int* queue_count,
-                              __global int* counters) {
-    int p = wp_global_id();
+WP_KERNEL void generate_camera(CameraData camera, uint seed, int first_pixel, uint first_sample,
+                               int count, WP_GLOBAL Ray* rays, WP_GLOBAL PathState* paths,
+                               WP_GLOBAL float4* radiance, WP_GLOBAL int* queue_count,
+                               WP_GLOBAL int* counters) {
+    int i = wp_global_id();
+    if (i >= count) return;
+    if (i == 0) queue_count[0] = count;
     int n = camera.width * camera.height;
-    if (p >= n) return;
-    if (p == 0) queue_count[0] = n;
-    // (no div/rem pair: LLVM fuses it behind a `freeze`, which Oclgrind cannot check)
+    // Pixel and sample of item i (no div/rem pair: LLVM fuses it behind a `freeze`, which
+    // Oclgrind cannot check).
+    int s = first_pixel + i;
+    int pass = s / n;
+    int p = s - pass * n;
+    uint sample = first_sample + (uint)pass;
     int y = p / camera.width, x = p - y * camera.width;
 
     // Position inside the pixel: random with jitter, else its centre.
@@ -33,20 +42,20 @@ __kernel void generate_camera(CameraData camera, uint seed, uint sample,
     // A NaN/Inf direction (degenerate camera) becomes a ray that misses everything.
     float tmax = FLT_MAX;
     if (!wp_all_finite3(d)) {
-        atomic_inc(&counters[WP_COUNTER_GENERATE_NONFINITE]);
+        wp_atomic_inc(&counters[WP_COUNTER_GENERATE_NONFINITE]);
         d = make_float3(0.0f, 0.0f, 1.0f);
         tmax = 0.0f;
     }
     Ray r;
     r.org = make_float4(camera.origin.x, camera.origin.y, camera.origin.z, 0.0f);
     r.dir = make_float4(d.x, d.y, d.z, tmax);
-    rays[p] = r;
-    PathState s;
-    s.throughput = make_float4(1.0f, 1.0f, 1.0f, 0.0f);
-    s.pixel = p;
-    s.bounce = 0;
-    s.flags = 0;
-    s.bsdf_pdf = 0.0f;
-    paths[p] = s;
-    radiance[p] = make_float4(0.0f, 0.0f, 0.0f, 0.0f);
+    rays[i] = r;
+    PathState ps;
+    ps.throughput = make_float4(1.0f, 1.0f, 1.0f, 0.0f);
+    ps.pixel = p;
+    ps.sample = sample;
+    ps.item = i;
+    ps.flags = 0;
+    paths[i] = ps;
+    radiance[i] = make_float4(0.0f, 0.0f, 0.0f, 0.0f);
 }

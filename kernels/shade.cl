@@ -1,23 +1,23 @@
 // shade.cl — the shade stage: emission, scattering, next-event estimation, Russian roulette
-// and compaction of surviving paths; plus the shadow-resolve and queue upkeep kernels.
+// and compaction of the surviving paths.
 //
 // shade_surface
 // reads   rays_in[i], paths_in[i], hits[i] for i < count_in[0] (the queue of this bounce);
 //         the scene in original triangle order: tris (vertices), material_ids, materials;
-//         background radiance, seed, sample, bounce (this bounce's index), max_depth;
-//         with WP_HAVE_NEE the light table (lights.h): light_cdf, light_prims,
-//         light_pdf_area, light_count
-// writes  radiance[pixel] += throughput * MIS weight * (emission of a front face hit), or
-//         throughput * background on a miss; counters[WP_COUNTER_SHADE_NONFINITE] on NaN/Inf;
-//         with WP_HAVE_NEE shadow_contrib[pixel] = the unoccluded contribution of this
-//         bounce's light sample
+//         background radiance, seed, bounce (this bounce's index, the same for every path
+//         of the queue), max_depth; with WP_HAVE_NEE the light table (lights.h):
+//         light_cdf, light_prims, light_pdf_area, light_count
+// writes  radiance[item] += throughput * MIS weight * (emission of a front face hit), or
+//         throughput * background on a miss (item: the path's sample in its wave);
+//         counters[WP_COUNTER_SHADE_NONFINITE] on NaN/Inf
 // pushes  every path that scatters (bounce < max_depth, not absorbed, throughput > 0, and
 //         surviving Russian roulette) into rays_out / paths_out at a slot reserved from
-//         count_out; with WP_HAVE_NEE a shadow ray per light sample into shadow_rays /
-//         shadow_pixels at a slot reserved from shadow_count. Both queues were zeroed by
+//         count_out; with WP_HAVE_NEE a shadow ray per light sample into shadow_rays, with
+//         its item and unoccluded contribution in shadow_items / shadow_contrib, at a slot
+//         reserved from shadow_count (shadow.cl traces them). Both queues were emptied by
 //         queue.reset; one global atomic per work-group and queue (see shade_surface).
-// Each path owns its pixel in this frame (one sample per pixel per frame), so the radiance
-// and shadow_contrib updates need no atomics and do not depend on the queue order.
+// Each path owns its sample's radiance slot, so the radiance updates need no atomics and
+// do not depend on the queue order.
 //
 // Compile options (KernelConfig): WP_HAVE_DIFFUSE / _MIRROR / _GLOSSY / _GLASS select the material
 // code and WP_SAMPLING / WP_GLOSSY_MODEL the strategies (bsdf.h); WP_HAVE_EMISSION the
@@ -42,43 +42,45 @@
 
 // The light arrays of shade_surface, bundled for the helpers.
 typedef struct LightTable {
-    __global const float* cdf;
-    __global const int* prims;
-    __global const float* pdf_area;
+    WP_GLOBAL const float* cdf;
+    WP_GLOBAL const int* prims;
+    WP_GLOBAL const float* pdf_area;
     int count;
 } LightTable;
 
-// Adds v to radiance[pixel] when finite; counts it otherwise.
-static void wp_add_radiance(__global float4* radiance, int pixel, float3 v, __global int* counters) {
+// Adds v to radiance[item] when finite; counts it otherwise.
+WP_FN void wp_add_radiance(WP_GLOBAL float4* radiance, int item, float3 v, WP_GLOBAL int* counters) {
     if (wp_all_finite3(v))
-        radiance[pixel] += wp_float4(v, 0.0f);
+        radiance[item] += wp_float4(v, 0.0f);
     else
-        atomic_inc(&counters[WP_COUNTER_SHADE_NONFINITE]);
+        wp_atomic_inc(&counters[WP_COUNTER_SHADE_NONFINITE]);
 }
 
 // Shades one path. Returns 1 and fills *next_ray / *next_path when the path continues, and
-// sets *shadow = 1 with *shadow_ray when it pushes a shadow ray.
-static int wp_shade_path(Ray ray, PathState path, Hit hit, __global const Triangle* tris,
-                         __global const int* material_ids, __global const MaterialData* materials,
-                         float4 background, uint seed, uint sample, int bounce, int max_depth,
-                         LightTable lights, __global float4* radiance,
-                         __global float4* shadow_contrib, __global int* counters,
-                         Ray* next_ray, PathState* next_path, int* shadow, Ray* shadow_ray) {
+// sets *shadow = 1 with *shadow_ray and its unoccluded contribution *contrib when it pushes
+// a shadow ray.
+WP_FN int wp_shade_path(Ray ray, PathState path, Hit hit, WP_GLOBAL const Triangle* tris,
+                        WP_GLOBAL const int* material_ids, WP_GLOBAL const MaterialData* materials,
+                        float4 background, uint seed, int bounce, int max_depth,
+                        LightTable lights, WP_GLOBAL float4* radiance, WP_GLOBAL int* counters,
+                        Ray* next_ray, PathState* next_path, int* shadow, Ray* shadow_ray,
+                        float4* contrib) {
     float3 beta = wp_xyz(path.throughput);
     float3 d = wp_xyz(ray.dir);
+    const uint pixel = (uint)path.pixel, sample = path.sample;
     *shadow = 0;
 #if WP_INJECT_NAN
     if (bounce == 0 && wp_inject_here(WP_INJECT_SHADE, path.pixel)) beta.x = wp_quiet_nan();
 #endif
     // Entry guard: a path whose throughput is not finite ends here, counted.
     if (!wp_all_finite3(beta)) {
-        atomic_inc(&counters[WP_COUNTER_SHADE_NONFINITE]);
+        wp_atomic_inc(&counters[WP_COUNTER_SHADE_NONFINITE]);
         return 0;
     }
 
     // Escaped: the constant background.
     if (hit.prim < 0) {
-        wp_add_radiance(radiance, path.pixel, beta * wp_xyz(background), counters);
+        wp_add_radiance(radiance, path.item, beta * wp_xyz(background), counters);
         return 0;
     }
 
@@ -102,13 +104,13 @@ static int wp_shade_path(Ray ray, PathState path, Hit hit, __global const Triang
             // Light density of this direction over solid angle at the previous vertex.
             float dist = hit.t * length(d);
             float p_light = wp_light_pdf_solid_angle(pdf_area, dist * dist, -dot(normalize(d), n));
-            w = wp_power_heuristic(path.bsdf_pdf, p_light);
+            w = wp_power_heuristic(path.throughput.w, p_light);
 #else
             w = 0.0f;  // NEE only: light sampling alone counts this light
 #endif
         }
 #endif
-        if (w > 0.0f) wp_add_radiance(radiance, path.pixel, beta * wp_xyz(m.emission) * w, counters);
+        if (w > 0.0f) wp_add_radiance(radiance, path.item, beta * wp_xyz(m.emission) * w, counters);
     }
 #endif
     if (bounce >= max_depth) return 0;
@@ -122,9 +124,9 @@ static int wp_shade_path(Ray ray, PathState path, Hit hit, __global const Triang
 
 #if WP_HAVE_NEE
     // Next-event estimation: a point on a light chosen by power; the shadow ray is traced
-    // by intersect.shadow and shadow.resolve adds shadow_contrib[pixel] when unoccluded.
+    // by the shadow stage, which adds *contrib to the radiance when it is unoccluded.
     if (m.kind != WP_MATERIAL_MIRROR && m.kind != WP_MATERIAL_GLASS && lights.count > 0) {
-        float4 ul = wp_rng4(seed, (uint)path.pixel, sample, (uint)bounce, WP_RNG_LIGHT);
+        float4 ul = wp_rng4(seed, pixel, sample, (uint)bounce, WP_RNG_LIGHT);
         int li = wp_light_pick(lights.cdf, lights.count, ul.z);
         int lp = lights.prims[li];
         Triangle lt = tris[lp];
@@ -148,7 +150,7 @@ static int wp_shade_path(Ray ray, PathState path, Hit hit, __global const Triang
             float3 le = wp_xyz(materials[material_ids[lp]].emission);
             float3 c = beta * fcos * le * (w / p_light);
             if (!wp_all_finite3(c)) {
-                atomic_inc(&counters[WP_COUNTER_SHADE_NONFINITE]);
+                wp_atomic_inc(&counters[WP_COUNTER_SHADE_NONFINITE]);
             } else if (wp_max_component(c) > 0.0f) {
                 // Segment from the offset origin to the light point offset to its front:
                 // hits need 0 < t < 1.
@@ -156,7 +158,7 @@ static int wp_shade_path(Ray ray, PathState path, Hit hit, __global const Triang
                 float3 sd = target - org;
                 shadow_ray->org = make_float4(org.x, org.y, org.z, 0.0f);
                 shadow_ray->dir = make_float4(sd.x, sd.y, sd.z, 1.0f);
-                shadow_contrib[path.pixel] = wp_float4(c, 0.0f);
+                *contrib = wp_float4(c, 0.0f);
                 *shadow = 1;
             }
         }
@@ -164,14 +166,14 @@ static int wp_shade_path(Ray ray, PathState path, Hit hit, __global const Triang
 #endif
 
     // Scatter: sample the material on the side the ray came from.
-    float4 u = wp_rng4(seed, (uint)path.pixel, sample, (uint)bounce, WP_RNG_BSDF);
+    float4 u = wp_rng4(seed, pixel, sample, (uint)bounce, WP_RNG_BSDF);
     float3 wo, weight;
     float pdf;
     int specular;
     if (!wp_bsdf_sample_pdf(m, dn, ns, front, u, &wo, &weight, &pdf, &specular)) return 0;
     beta = beta * weight;
     if (!wp_all_finite3(beta) || !wp_all_finite3(wo)) {
-        atomic_inc(&counters[WP_COUNTER_SHADE_NONFINITE]);
+        wp_atomic_inc(&counters[WP_COUNTER_SHADE_NONFINITE]);
         return 0;
     }
     if (!(wp_max_component(beta) > 0.0f)) return 0;  // black: nothing more to gather
@@ -181,7 +183,7 @@ static int wp_shade_path(Ray ray, PathState path, Hit hit, __global const Triang
     // of the throughput) and divide by q, so the estimate stays unbiased.
     if (bounce >= WP_RR_DEPTH) {
         float q = min(1.0f, wp_max_component(beta));
-        float4 ur = wp_rng4(seed, (uint)path.pixel, sample, (uint)bounce, WP_RNG_RR);
+        float4 ur = wp_rng4(seed, pixel, sample, (uint)bounce, WP_RNG_RR);
         if (ur.x >= q) return 0;
         beta = beta * (1.0f / q);
     }
@@ -191,38 +193,35 @@ static int wp_shade_path(Ray ray, PathState path, Hit hit, __global const Triang
     float3 org_next = dot(wo, ns) > 0.0f ? org : wp_offset_ray_origin(p, perr, -ns, tri_offset);
     next_ray->org = make_float4(org_next.x, org_next.y, org_next.z, 0.0f);
     next_ray->dir = make_float4(wo.x, wo.y, wo.z, FLT_MAX);
-    next_path->throughput = wp_float4(beta, 0.0f);
-    next_path->pixel = path.pixel;
-    next_path->bounce = bounce + 1;
+    *next_path = path;
+    next_path->throughput = wp_float4(beta, pdf);
     next_path->flags = specular ? WP_PATH_SPECULAR : 0;
-    next_path->bsdf_pdf = pdf;
     return 1;
 }
 
 // The pushes are aggregated per work-group: survivors take slots from a local counter, and
-// one work-item reserves the group's range with a single global atomic_add (so 1 global
+// one work-item reserves the group's range with a single global atomic add (so 1 global
 // atomic per 64 paths instead of one per path), for each queue. Every work-item reaches
 // the barriers.
-__kernel void shade_surface(__global const Ray* rays_in, __global const PathState* paths_in,
-                            __global const Hit* hits, __global const int* count_in,
-                            __global const Triangle* tris, __global const int* material_ids,
-                            __global const MaterialData* materials, float4 background,
-                            uint seed, uint sample, int bounce, int max_depth,
-                            __global float4* radiance, __global Ray* rays_out,
-                            __global PathState* paths_out, __global int* count_out,
-                            __global int* counters, __global const float* light_cdf,
-                            __global const int* light_prims,
-                            __global const float* light_pdf_area, int light_count,
-                            __global Ray* shadow_rays, __global int* shadow_pixels,
-                            __global int* shadow_count, __global float4* shadow_contrib) {
-    __local int group_count, group_base, shadow_group_count, shadow_group_base;
+WP_KERNEL void shade_surface(WP_GLOBAL const Ray* rays_in, WP_GLOBAL const PathState* paths_in,
+                             WP_GLOBAL const int* count_in, WP_GLOBAL const Hit* hits,
+                             WP_GLOBAL const Triangle* tris, WP_GLOBAL const int* material_ids,
+                             WP_GLOBAL const MaterialData* materials, float4 background,
+                             WP_GLOBAL const float* light_cdf, WP_GLOBAL const int* light_prims,
+                             WP_GLOBAL const float* light_pdf_area, int light_count, uint seed,
+                             int bounce, int max_depth, WP_GLOBAL float4* radiance,
+                             WP_GLOBAL int* counters, WP_GLOBAL Ray* rays_out,
+                             WP_GLOBAL PathState* paths_out, WP_GLOBAL int* count_out,
+                             WP_GLOBAL Ray* shadow_rays, WP_GLOBAL int* shadow_items,
+                             WP_GLOBAL float4* shadow_contrib, WP_GLOBAL int* shadow_count) {
+    WP_LOCAL int group_count, group_base, shadow_group_count, shadow_group_base;
     int i = wp_global_id();
-    int lid = (int)get_local_id(0);
+    int lid = wp_local_id();
     if (lid == 0) {
         group_count = 0;
         shadow_group_count = 0;
     }
-    barrier(CLK_LOCAL_MEM_FENCE);
+    wp_barrier();
 
     LightTable lights;
     lights.cdf = light_cdf;
@@ -231,24 +230,24 @@ __kernel void shade_surface(__global const Ray* rays_in, __global const PathStat
     lights.count = light_count;
     Ray next_ray, shadow_ray;
     PathState next_path;
-    int push = 0, shadow = 0, pixel = 0;
+    float4 contrib = make_float4(0.0f, 0.0f, 0.0f, 0.0f);
+    int push = 0, shadow = 0, item = 0;
     if (i < count_in[0]) {
         PathState path = paths_in[i];
-        pixel = path.pixel;
-        push = wp_shade_path(rays_in[i], path, hits[i], tris, material_ids, materials,
-                             background, seed, sample, bounce, max_depth, lights, radiance,
-                             shadow_contrib, counters, &next_ray, &next_path, &shadow,
-                             &shadow_ray);
+        item = path.item;
+        push = wp_shade_path(rays_in[i], path, hits[i], tris, material_ids, materials, background,
+                             seed, bounce, max_depth, lights, radiance, counters, &next_ray,
+                             &next_path, &shadow, &shadow_ray, &contrib);
     }
-    int local_slot = push ? atomic_inc(&group_count) : 0;
-    int shadow_local_slot = shadow ? atomic_inc(&shadow_group_count) : 0;
-    barrier(CLK_LOCAL_MEM_FENCE);
+    int local_slot = push ? wp_atomic_inc(&group_count) : 0;
+    int shadow_local_slot = shadow ? wp_atomic_inc(&shadow_group_count) : 0;
+    wp_barrier();
     if (lid == 0) {
-        group_base = group_count > 0 ? atomic_add(count_out, group_count) : 0;
+        group_base = group_count > 0 ? wp_atomic_add(count_out, group_count) : 0;
         shadow_group_base =
-            shadow_group_count > 0 ? atomic_add(shadow_count, shadow_group_count) : 0;
+            shadow_group_count > 0 ? wp_atomic_add(shadow_count, shadow_group_count) : 0;
     }
-    barrier(CLK_LOCAL_MEM_FENCE);
+    wp_barrier();
     if (push) {
         int slot = group_base + local_slot;
         rays_out[slot] = next_ray;
@@ -257,34 +256,7 @@ __kernel void shade_surface(__global const Ray* rays_in, __global const PathStat
     if (shadow) {
         int slot = shadow_group_base + shadow_local_slot;
         shadow_rays[slot] = shadow_ray;
-        shadow_pixels[slot] = pixel;
+        shadow_items[slot] = item;
+        shadow_contrib[slot] = contrib;
     }
-}
-
-// shadow.resolve — after intersect.shadow (any hit) of the shadow queue.
-// reads   hits[i], shadow_pixels[i] for i < shadow_count[0]; shadow_contrib[pixel]
-// writes  radiance[pixel] += shadow_contrib[pixel] when the shadow ray was unoccluded
-// One shadow ray per pixel per bounce: indexed by pixel, so the order of the queue does
-// not matter.
-__kernel void shadow_resolve(__global const Hit* hits, __global const int* shadow_pixels,
-                             __global const int* shadow_count,
-                             __global const float4* shadow_contrib, __global float4* radiance) {
-    int i = wp_global_id();
-    if (i >= shadow_count[0]) return;
-    if (hits[i].prim >= 0) return;  // occluded
-    int pixel = shadow_pixels[i];
-    radiance[pixel] += shadow_contrib[pixel];
-}
-
-// queue.reset — queue upkeep between intersect and shade, one work-item.
-// reads   count_in[0] (rays traced by this bounce), shadow_count[0] (shadow rays traced
-//         after the previous shade)
-// writes  ray_total[0] += both (64-bit total of rays traced, for Mrays/s), count_out[0] = 0
-//         and shadow_count[0] = 0 (empty next queues)
-__kernel void queue_reset(__global const int* count_in, __global int* count_out,
-                          __global ulong* ray_total, __global int* shadow_count) {
-    if (get_global_id(0) != 0) return;
-    ray_total[0] += (ulong)count_in[0] + (ulong)shadow_count[0];
-    count_out[0] = 0;
-    shadow_count[0] = 0;
 }

@@ -2,11 +2,13 @@
 #include <catch2/catch.hpp>
 
 #include <cmath>
+#include <cstring>
 #include <vector>
 
-#include "cl/profiler.h"
+#include "cl/kernel.h"
 #include "cl/program.h"
 #include "render/film.h"
+#include "render/stages/accumulate.h"
 #include "shared/types.h"
 #include "support.h"
 
@@ -14,40 +16,27 @@ using namespace wp;
 
 namespace {
 
+// The accumulate stage through its launcher, over a film of `pixels` pixels.
 struct Accum {
-    ocl::Program prog;
-    cl::Kernel k;
-    cl::Buffer radiance, film, counters;
+    render::AccumulateStage stage;
+    render::FilmBuffers film;
+    ocl::Array<float4> radiance;
     int n;
 
-    explicit Accum(int pixels) : n(pixels) {
+    explicit Accum(int pixels, int items = 0, bool variance = false) : n(pixels) {
         auto& dev = test::device();
-        prog = ocl::Program::build(dev, "accumulate.cl");
-        k = prog.kernel("accumulate_film");
-        radiance = cl::Buffer(dev.context, CL_MEM_READ_WRITE, n * sizeof(float4));
-        film = cl::Buffer(dev.context, CL_MEM_READ_WRITE, n * sizeof(FilmPixel));
-        counters = cl::Buffer(dev.context, CL_MEM_READ_WRITE, WP_COUNTER_COUNT * sizeof(int));
-        dev.queue.enqueueFillBuffer(film, 0.0f, 0, n * sizeof(FilmPixel));
-        dev.queue.enqueueFillBuffer(counters, 0, 0, WP_COUNTER_COUNT * sizeof(int));
-        k.setArg(0, radiance);
-        k.setArg(1, n);
-        k.setArg(2, film);
-        k.setArg(3, counters);
+        stage = render::AccumulateStage(dev, render::KernelConfig{}, variance);
+        film = render::FilmBuffers(dev, n, variance);
+        radiance = ocl::Array<float4>::allocate(dev, items > 0 ? items : n, "radiance");
     }
-    void set(const std::vector<float4>& r) {
-        test::device().queue.enqueueWriteBuffer(radiance, CL_TRUE, 0, n * sizeof(float4), r.data());
+    void set(const std::vector<float4>& r) { radiance.write(test::device(), r); }
+    // One whole pass (or a wave of `count` items from `first_pixel`).
+    void launch(int first_pixel = 0, int count = 0) {
+        stage.enqueue(radiance, first_pixel, count > 0 ? count : n, n, film);
     }
-    void launch() { ocl::launch(test::device().queue, k, "accumulate", n); }
-    std::vector<FilmPixel> read() {
-        std::vector<FilmPixel> f(n);
-        test::device().queue.enqueueReadBuffer(film, CL_TRUE, 0, n * sizeof(FilmPixel), f.data());
-        return f;
-    }
-    std::vector<int> read_counters() {
-        std::vector<int> c(WP_COUNTER_COUNT);
-        test::device().queue.enqueueReadBuffer(counters, CL_TRUE, 0, c.size() * sizeof(int), c.data());
-        return c;
-    }
+    std::vector<FilmPixel> read() { return film.sum.read(test::device()); }
+    std::vector<FilmPixel> read_sq() { return film.sum_sq.read(test::device()); }
+    std::vector<int> read_counters() { return film.counters.read(test::device()); }
 };
 
 double total(const FilmPixel& p, int ch) {
@@ -107,15 +96,10 @@ TEST_CASE("accumulate: the compensated sum keeps 6+ digits over 10^6 samples",
     // The device's compensated add (the function accumulate_film calls), 10^6 times in one
     // launch of a probe kernel.
     auto prog = ocl::Program::build(dev, "test_probes.cl");
-    auto k = prog.kernel("film_add_repeat");
-    cl::Buffer film(dev.context, CL_MEM_READ_WRITE, sizeof(FilmPixel));
-    dev.queue.enqueueFillBuffer(film, 0.0f, 0, sizeof(FilmPixel));
-    k.setArg(0, float4{value, 2.0f * value, 3.0f * value, 0.0f});
-    k.setArg(1, repeat);
-    k.setArg(2, film);
-    ocl::launch(dev.queue, k, "film_add_repeat", 1);
-    FilmPixel f;
-    dev.queue.enqueueReadBuffer(film, CL_TRUE, 0, sizeof(f), &f);
+    ocl::Kernel k(prog, "film_add_repeat");
+    auto film = ocl::Array<FilmPixel>::zeros(dev, 1, "film");
+    k.launch({&dev.queue}, 1, float4{value, 2.0f * value, 3.0f * value, 0.0f}, repeat, film);
+    FilmPixel f = film.read(dev)[0];
     for (int ch = 0; ch < 3; ++ch) {
         double e = expected * (ch + 1);
         INFO("channel " << ch << ": " << total(f, ch) << " vs " << e);
@@ -136,4 +120,42 @@ TEST_CASE("accumulate: the compensated sum keeps 6+ digits over 10^6 samples",
     CHECK(std::abs(total(film2[1], 0) - double(1.0f / 3.0f) * launches) /
               (double(1.0f / 3.0f) * launches) < 1e-7);
     CHECK(std::abs(total(film2[1], 2) - double(0.01f) * launches) / (double(0.01f) * launches) < 1e-7);
+}
+
+TEST_CASE("accumulate: waves of several passes or parts of one give the film of one pass at a "
+          "time, bit for bit", "[kernel][accumulate]") {
+    // The path pool hands accumulate a wave of k passes (items i, i + n, ... of pixel i) or a
+    // chunk of one pass; the film must hold exactly the sums of adding each pixel's samples
+    // one pass at a time, in sample order.
+    const int n = 37, passes = 5;
+    test::Rng rng(17);
+    std::vector<std::vector<float4>> samples(passes, std::vector<float4>(n));
+    for (auto& pass : samples)
+        for (auto& x : pass) x = {float(rng.uniform()), float(rng.uniform()) * 0.1f, float(rng.uniform()) * 7.0f, 0};
+    Accum one(n, 0, true);  // the reference: one pass per launch
+    for (auto& pass : samples) {
+        one.set(pass);
+        one.launch();
+    }
+    Accum waves(n, 3 * n, true);  // passes 0-2 in one wave, 3-4 in chunks of 10 pixels
+    std::vector<float4> w3;
+    for (int p = 0; p < 3; ++p) w3.insert(w3.end(), samples[p].begin(), samples[p].end());
+    waves.set(w3);
+    waves.launch(0, 3 * n);
+    for (int p = 3; p < passes; ++p)
+        for (int first = 0; first < n; first += 10) {
+            int c = std::min(10, n - first);
+            waves.set(std::vector<float4>(samples[p].begin() + first, samples[p].begin() + first + c));
+            waves.launch(first, c);
+        }
+    auto a = one.read(), b = waves.read();
+    auto a2 = one.read_sq(), b2 = waves.read_sq();
+    REQUIRE(std::memcmp(a.data(), b.data(), n * sizeof(FilmPixel)) == 0);
+    REQUIRE(std::memcmp(a2.data(), b2.data(), n * sizeof(FilmPixel)) == 0);
+    // Against an independent sum in double: the film's double-float pair is within 1e-7.
+    for (int p = 0; p < n; ++p) {
+        double e = 0.0;
+        for (int k = 0; k < passes; ++k) e += double(samples[k][p].z);
+        CHECK(std::abs(total(b[p], 2) - e) <= 1e-7 * e);
+    }
 }

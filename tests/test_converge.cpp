@@ -25,7 +25,7 @@ render::Wavefront make_wavefront(const Scene& scene, int w, int h, int depth, bo
     // Independent samples: the film's s² / n and the 1 / spp slope describe Monte Carlo
     // estimates; the default Owen-scrambled Sobol samples are correlated within a pixel
     // (their variance of the mean is below s² / n), so these tests use the random sampler.
-    s.sobol = false;
+    s.estimator.sobol = false;
     return render::Wavefront(test::device(), scene, s);
 }
 

@@ -10,8 +10,7 @@
 
 #include <glm/glm.hpp>
 
-#include "cl/profiler.h"
-#include "cl/program.h"
+#include "render/stages/generate.h"
 #include "scene/upload.h"
 #include "shared/types.h"
 #include "support.h"
@@ -28,40 +27,29 @@ struct GenerateOut {
     std::vector<int> counters;
 };
 
-GenerateOut run_generate(const CameraData& cam, cl_uint seed, cl_uint sample) {
+// Runs the generate stage through its launcher: a wave of `count` samples from
+// (first_pixel, sample); count = 0 means one whole pass.
+GenerateOut run_generate(const CameraData& cam, cl_uint seed, cl_uint sample, int first_pixel = 0,
+                         int count = 0) {
     auto& dev = test::device();
-    auto prog = ocl::Program::build(dev, "generate.cl");
-    auto k = prog.kernel("generate_camera");
-    std::size_t n = static_cast<std::size_t>(cam.width) * cam.height;
-    cl::Buffer rays(dev.context, CL_MEM_READ_WRITE, n * sizeof(Ray));
-    cl::Buffer paths(dev.context, CL_MEM_READ_WRITE, n * sizeof(PathState));
-    std::vector<float4> junk(n, float4{7.0f, 7.0f, 7.0f, 7.0f});  // generate must clear it
-    cl::Buffer radiance(dev.context, CL_MEM_READ_WRITE | CL_MEM_COPY_HOST_PTR, n * sizeof(float4),
-                        junk.data());
-    int zero = 0;
-    cl::Buffer count(dev.context, CL_MEM_READ_WRITE | CL_MEM_COPY_HOST_PTR, sizeof(int), &zero);
-    std::vector<int> cz(WP_COUNTER_COUNT, 0);
-    cl::Buffer counters(dev.context, CL_MEM_READ_WRITE | CL_MEM_COPY_HOST_PTR, cz.size() * sizeof(int),
-                        cz.data());
-    k.setArg(0, cam);
-    k.setArg(1, seed);
-    k.setArg(2, sample);
-    k.setArg(3, rays);
-    k.setArg(4, paths);
-    k.setArg(5, radiance);
-    k.setArg(6, count);
-    k.setArg(7, counters);
-    ocl::launch(dev.queue, k, "generate", n);
+    static render::GenerateStage stage(dev, render::KernelConfig{});
+    const int n = cam.width * cam.height;
+    if (count == 0) count = n;
+    const auto items = static_cast<std::size_t>(count);
+    render::PathQueue q;
+    q.rays = ocl::Array<Ray>::allocate(dev, items, "rays");
+    q.paths = ocl::Array<PathState>::allocate(dev, items, "paths");
+    q.count = ocl::Array<int>::zeros(dev, 1, "count");
+    auto radiance = ocl::Array<float4>::upload(dev, std::vector<float4>(items, float4{7, 7, 7, 7}),
+                                               "radiance");  // generate must clear it
+    auto counters = ocl::Array<int>::zeros(dev, WP_COUNTER_COUNT, "counters");
+    stage.enqueue(cam, seed, first_pixel, sample, count, q, radiance, counters);
     GenerateOut out;
-    out.rays.resize(n);
-    out.paths.resize(n);
-    out.radiance.resize(n);
-    out.counters.resize(WP_COUNTER_COUNT);
-    dev.queue.enqueueReadBuffer(rays, CL_TRUE, 0, n * sizeof(Ray), out.rays.data());
-    dev.queue.enqueueReadBuffer(paths, CL_TRUE, 0, n * sizeof(PathState), out.paths.data());
-    dev.queue.enqueueReadBuffer(radiance, CL_TRUE, 0, n * sizeof(float4), out.radiance.data());
-    dev.queue.enqueueReadBuffer(count, CL_TRUE, 0, sizeof(int), &out.count);
-    dev.queue.enqueueReadBuffer(counters, CL_TRUE, 0, cz.size() * sizeof(int), out.counters.data());
+    out.rays = q.rays.read(dev);
+    out.paths = q.paths.read(dev);
+    out.radiance = radiance.read(dev);
+    out.count = q.count.read(dev)[0];
+    out.counters = counters.read(dev);
     return out;
 }
 
@@ -123,10 +111,13 @@ TEST_CASE("generate: pixel-centre rays match the host camera model", "[kernel][g
         CHECK(std::abs(r.dir.y - d.y) < 1e-6);
         CHECK(std::abs(r.dir.z - d.z) < 1e-6);
     }
-    // Every slot: its own pixel, unit throughput, cleared radiance.
+    // Every slot: its own pixel, sample and item, unit throughput, cleared radiance.
     for (int p = 0; p < w * h; ++p) {
         REQUIRE(g.paths[p].pixel == p);
-        REQUIRE(g.paths[p].bounce == 0);
+        REQUIRE(g.paths[p].sample == 5u);
+        REQUIRE(g.paths[p].item == p);
+        REQUIRE(g.paths[p].flags == 0);
+        REQUIRE(g.paths[p].throughput.w == 0.0f);  // no BSDF density yet
         REQUIRE(g.paths[p].throughput.x == 1.0f);
         REQUIRE(g.paths[p].throughput.z == 1.0f);
         REQUIRE(g.radiance[p].x == 0.0f);
@@ -155,4 +146,35 @@ TEST_CASE("generate: jittered rays stay inside their pixel and depend only on th
         moved += a.rays[p].dir.x != other.rays[p].dir.x;
     }
     CHECK(moved > w * h * 9 / 10);  // another sample index gives other positions
+}
+
+TEST_CASE("generate: a wave of several passes or part of one gives each sample the rays of its "
+          "own pass", "[kernel][generate]") {
+    // The path pool cuts the sample sequence s = sample * pixels + pixel into waves; every
+    // sample must get the same ray, pixel and sample number whatever wave it falls in.
+    Camera c = test_camera();
+    const int w = 16, h = 12, n = w * h;
+    CameraData cam = upload_camera(c, w, h, /*jitter=*/true);
+    const cl_uint seed = 9;
+    std::vector<GenerateOut> single;  // one whole pass per call: the reference
+    for (cl_uint s = 4; s < 7; ++s) single.push_back(run_generate(cam, seed, s));
+    // Three passes in one wave.
+    GenerateOut multi = run_generate(cam, seed, 4, 0, 3 * n);
+    CHECK(multi.count == 3 * n);
+    for (int i = 0; i < 3 * n; ++i) {
+        int pass = i / n, p = i % n;
+        REQUIRE(multi.paths[i].pixel == p);
+        REQUIRE(multi.paths[i].sample == cl_uint(4 + pass));
+        REQUIRE(multi.paths[i].item == i);
+        REQUIRE(std::memcmp(&multi.rays[i], &single[pass].rays[p], sizeof(Ray)) == 0);
+    }
+    // A chunk of pass 5: pixels 50 .. 50 + 37.
+    GenerateOut chunk = run_generate(cam, seed, 5, 50, 37);
+    CHECK(chunk.count == 37);
+    for (int i = 0; i < 37; ++i) {
+        REQUIRE(chunk.paths[i].pixel == 50 + i);
+        REQUIRE(chunk.paths[i].sample == 5u);
+        REQUIRE(chunk.paths[i].item == i);
+        REQUIRE(std::memcmp(&chunk.rays[i], &single[1].rays[50 + i], sizeof(Ray)) == 0);
+    }
 }

@@ -597,9 +597,9 @@ render::FilmMoments render_white(const Scene& s, render::Sampling sampling, rend
     st.depth = 4;
     st.seed = 11;
     st.variance = true;
-    st.sampling = sampling;
-    st.glossy = glossy;
-    st.sobol = false;  // independent samples: s^2/n is the variance of the mean
+    st.estimator.sampling = sampling;
+    st.estimator.glossy = glossy;
+    st.estimator.sobol = false;  // independent samples: s^2/n is the variance of the mean
     render::Wavefront wf(test::device(), s, st);
     render::LoopOptions lo;
     lo.spp = spp;

@@ -26,9 +26,9 @@ Rendered render_scene(const Scene& scene, int w, int h, int spp, int depth, std:
                       render::Sampling sampling = render::Sampling::Mis, int rr_depth = 3,
                       bool sobol = true) {
     render::RenderSettings s;
-    s.sobol = sobol;
-    s.sampling = sampling;
-    s.rr_depth = rr_depth;
+    s.estimator.sobol = sobol;
+    s.estimator.sampling = sampling;
+    s.estimator.rr_depth = rr_depth;
     s.traversal = traversal;
     s.width = w;
     s.height = h;
@@ -149,11 +149,11 @@ TEST_CASE("render: kernel options follow the scene's materials", "[render]") {
     auto box = render::KernelConfig::from_scene(make_cornell_box(200));
     CHECK((box.diffuse && box.mirror && box.glossy && box.emission));
     // Light sampling only for strategies that use it and scenes that emit.
-    box.sampling = render::Sampling::Mis;
+    box.estimator.sampling = render::Sampling::Mis;
     CHECK(box.options().find("-D WP_HAVE_NEE=1") != std::string::npos);
-    box.sampling = render::Sampling::Cosine;
+    box.estimator.sampling = render::Sampling::Cosine;
     CHECK(box.options().find("-D WP_HAVE_NEE=0") != std::string::npos);
-    box.sampling = render::Sampling::Mis;
+    box.estimator.sampling = render::Sampling::Mis;
     box.emission = false;
     CHECK(box.options().find("-D WP_HAVE_NEE=0") != std::string::npos);
 }

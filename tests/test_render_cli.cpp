@@ -86,22 +86,29 @@ TEST_CASE("render CLI: a small render writes only the -o file and the profile", 
     REQUIRE(fs::exists(d.path / "prof.json"));
     REQUIRE(fs::exists(d.path / "prof.trace.json"));
     auto j = nlohmann::json::parse(std::ifstream(d.path / "prof.json"));
-    CHECK(j["frames"] == 2);
-    CHECK(j["frame_ms"].size() == 2);
+    CHECK(j["spp"] == 2);
+    // The loop takes 1, 1, 2, 4, ... passes per step: two waves of one pass each.
+    CHECK(j["waves"] == 2);
+    CHECK(j["wave_ms"].size() == 2);
+    // The pool: 16 passes of the 32x24 image (smaller than the 2^20 default), 212 bytes a
+    // path with NEE; the film 32 bytes a pixel.
+    CHECK(j["settings"]["pool_paths"] == 16 * 32 * 24);
+    CHECK(j["settings"]["pool_bytes"] == 16 * 32 * 24 * 212);
+    CHECK(j["settings"]["film_bytes"] == 32 * 24 * 32);
     CHECK(j["scene"]["triangles"].get<int>() > 1000);
     CHECK(j.contains("device"));
     bool has_intersect = false;
     for (auto& s : j["stages"]) has_intersect |= s["name"] == "intersect.closest";
     CHECK(has_intersect);
     auto t = nlohmann::json::parse(std::ifstream(d.path / "prof.trace.json"));
-    // 2 frames x (generate + 3 x (intersect, reset, shade) + 2 x (intersect.shadow,
-    // shadow.resolve) + accumulate) complete events: the default --sampling mis traces
-    // shadow rays after every bounce but the last.
+    // 2 waves x (generate + 3 x (intersect, reset, shade) + 2 x shadow + accumulate)
+    // complete events: the default --sampling mis traces shadow rays after every bounce but
+    // the last, and paths of the open box survive to depth 2.
     int complete = 0;
     for (auto& e : t["traceEvents"]) complete += e["ph"] == "X";
-    CHECK(complete == 2 * (1 + 3 * 3 + 2 * 2 + 1));
+    CHECK(complete == 2 * (1 + 3 * 3 + 2 + 1));
     bool has_shadow = false;
-    for (auto& s : j["stages"]) has_shadow |= s["name"] == "intersect.shadow";
+    for (auto& s : j["stages"]) has_shadow |= s["name"] == "shadow";
     CHECK(has_shadow);
 }
 

@@ -355,7 +355,7 @@ TEST_CASE("sampling: mis and uniform images agree (per-pixel z-test)", "[render]
         s.depth = 3;
         s.seed = seed;
         s.variance = true;
-        s.sampling = sampling;
+        s.estimator.sampling = sampling;
         render::Wavefront wf(test::device(), scene, s);
         render::LoopOptions lo;
         lo.spp = spp;

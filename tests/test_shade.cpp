@@ -9,13 +9,14 @@
 
 #include <algorithm>
 #include <cmath>
+#include <map>
+#include <string>
 #include <numeric>
 #include <vector>
 
 #include <glm/glm.hpp>
 
-#include "cl/profiler.h"
-#include "cl/program.h"
+#include "render/stages/shade.h"
 #include "shared/types.h"
 #include "chi2.h"
 #include "support.h"
@@ -37,7 +38,18 @@ struct ShadeCase {
     float4 background{0, 0, 0, 0};
     cl_uint seed = 1, sample = 0;
     int bounce = 0, max_depth = 5;
-    int pixels = 0;  // radiance buffer size (> every path's pixel)
+    int pixels = 0;  // radiance buffer size (> every path's item)
+    // The original estimator (uniform hemisphere, Phong, pcg4d numbers, no roulette, no
+    // NEE) with every material kind, unless a test says otherwise.
+    render::KernelConfig config = [] {
+        render::KernelConfig k;
+        k.estimator = render::Estimator::original();
+        return k;
+    }();
+    // The light table (with NEE): cdf, triangles, per-triangle area density.
+    std::vector<float> light_cdf;
+    std::vector<int> light_prims;
+    std::vector<float> light_pdf_area;
 };
 
 struct ShadeOut {
@@ -46,72 +58,61 @@ struct ShadeOut {
     std::vector<PathState> paths;
     int count = 0;
     std::vector<int> counters;
+    // The shadow queue shade filled (with NEE).
+    std::vector<Ray> shadow_rays;
+    std::vector<int> shadow_items;
+    std::vector<float4> shadow_contrib;
 };
 
-template <typename T>
-cl::Buffer upload(const std::vector<T>& v) {
-    auto& dev = test::device();
-    return cl::Buffer(dev.context, CL_MEM_READ_WRITE | CL_MEM_COPY_HOST_PTR,
-                      std::max<std::size_t>(1, v.size()) * sizeof(T), const_cast<T*>(v.data()));
+// The shade stage built for a configuration, once per option string.
+render::ShadeStage& shade_stage(const render::KernelConfig& config) {
+    static std::map<std::string, render::ShadeStage> stages;
+    auto it = stages.find(config.shade_options());
+    if (it == stages.end())
+        it = stages.emplace(config.shade_options(), render::ShadeStage(test::device(), config)).first;
+    return it->second;
 }
 
+// Runs shade_surface once over the case's paths through the stage's launcher.
 ShadeOut run_shade(const ShadeCase& c) {
     auto& dev = test::device();
-    static ocl::Program prog = ocl::Program::build(dev, "shade.cl");  // generic: every kind
-    auto k = prog.kernel("shade_surface");
-    std::size_t n = c.rays.size();
-    int count_in = static_cast<int>(n), zero = 0;
-    std::vector<float4> rad(c.pixels, float4{0, 0, 0, 0});
-    std::vector<int> cnt(WP_COUNTER_COUNT, 0);
-    cl::Buffer b_rays = upload(c.rays), b_paths = upload(c.paths), b_hits = upload(c.hits);
-    cl::Buffer b_count_in = upload(std::vector<int>{count_in});
-    cl::Buffer b_tris = upload(c.tris), b_mid = upload(c.material_ids), b_mat = upload(c.materials);
-    cl::Buffer b_rad = upload(rad), b_cnt = upload(cnt);
-    cl::Buffer b_rays_out(dev.context, CL_MEM_READ_WRITE, std::max<std::size_t>(n, 1) * sizeof(Ray));
-    cl::Buffer b_paths_out(dev.context, CL_MEM_READ_WRITE, std::max<std::size_t>(n, 1) * sizeof(PathState));
-    cl::Buffer b_count_out = upload(std::vector<int>{zero});
-    int a = 0;
-    k.setArg(a++, b_rays);
-    k.setArg(a++, b_paths);
-    k.setArg(a++, b_hits);
-    k.setArg(a++, b_count_in);
-    k.setArg(a++, b_tris);
-    k.setArg(a++, b_mid);
-    k.setArg(a++, b_mat);
-    k.setArg(a++, c.background);
-    k.setArg(a++, c.seed);
-    k.setArg(a++, c.sample);
-    k.setArg(a++, c.bounce);
-    k.setArg(a++, c.max_depth);
-    k.setArg(a++, b_rad);
-    k.setArg(a++, b_rays_out);
-    k.setArg(a++, b_paths_out);
-    k.setArg(a++, b_count_out);
-    k.setArg(a++, b_cnt);
-    // No light table (the generic program has no NEE): placeholders.
-    cl::Buffer b_dummy(dev.context, CL_MEM_READ_WRITE, 64);
-    k.setArg(a++, b_dummy);
-    k.setArg(a++, b_dummy);
-    k.setArg(a++, b_dummy);
-    k.setArg(a++, 0);
-    k.setArg(a++, b_dummy);
-    k.setArg(a++, b_dummy);
-    cl::Buffer b_shadow_count = upload(std::vector<int>{0});
-    k.setArg(a++, b_shadow_count);
-    k.setArg(a++, b_dummy);
-    ocl::launch(dev.queue, k, "shade", n);
+    const std::size_t n = c.rays.size();
+    render::PathQueue in, out;
+    in.rays = ocl::Array<Ray>::upload(dev, c.rays, "rays");
+    in.paths = ocl::Array<PathState>::upload(dev, c.paths, "paths");
+    in.count = ocl::Array<int>::upload(dev, {static_cast<int>(n)}, "count");
+    out.rays = ocl::Array<Ray>::allocate(dev, n, "rays out");
+    out.paths = ocl::Array<PathState>::allocate(dev, n, "paths out");
+    out.count = ocl::Array<int>::zeros(dev, 1, "count out");
+    auto hits = ocl::Array<Hit>::upload(dev, c.hits, "hits");
+    render::ShadingScene scene;
+    scene.tris = ocl::Array<Triangle>::upload(dev, c.tris, "tris");
+    scene.material_ids = ocl::Array<int>::upload(dev, c.material_ids, "material ids");
+    scene.materials = ocl::Array<MaterialData>::upload(dev, c.materials, "materials");
+    scene.background = c.background;
+    scene.light_cdf = ocl::Array<float>::upload(dev, c.light_cdf, "light cdf");
+    scene.light_prims = ocl::Array<int>::upload(dev, c.light_prims, "light prims");
+    scene.light_pdf_area = ocl::Array<float>::upload(dev, c.light_pdf_area, "light pdf");
+    scene.light_count = static_cast<int>(c.light_prims.size());
+    render::ShadowQueue shadow;
+    shadow.rays = ocl::Array<Ray>::allocate(dev, n, "shadow rays");
+    shadow.items = ocl::Array<int>::allocate(dev, n, "shadow items");
+    shadow.contrib = ocl::Array<float4>::allocate(dev, n, "shadow contrib");
+    shadow.count = ocl::Array<int>::zeros(dev, 1, "shadow count");
+    auto radiance = ocl::Array<float4>::zeros(dev, c.pixels, "radiance");
+    auto counters = ocl::Array<int>::zeros(dev, WP_COUNTER_COUNT, "counters");
+    shade_stage(c.config).enqueue(n, in, hits, scene, c.seed, c.bounce, c.max_depth, radiance,
+                                  counters, out, shadow);
     ShadeOut o;
-    dev.queue.enqueueReadBuffer(b_count_out, CL_TRUE, 0, sizeof(int), &o.count);
-    o.radiance.resize(c.pixels);
-    o.counters.resize(WP_COUNTER_COUNT);
-    o.rays.resize(o.count);
-    o.paths.resize(o.count);
-    dev.queue.enqueueReadBuffer(b_rad, CL_TRUE, 0, c.pixels * sizeof(float4), o.radiance.data());
-    dev.queue.enqueueReadBuffer(b_cnt, CL_TRUE, 0, WP_COUNTER_COUNT * sizeof(int), o.counters.data());
-    if (o.count > 0) {
-        dev.queue.enqueueReadBuffer(b_rays_out, CL_TRUE, 0, o.count * sizeof(Ray), o.rays.data());
-        dev.queue.enqueueReadBuffer(b_paths_out, CL_TRUE, 0, o.count * sizeof(PathState), o.paths.data());
-    }
+    o.count = out.count.read(dev)[0];
+    o.radiance = radiance.read(dev);
+    o.counters = counters.read(dev);
+    o.rays = out.rays.read(dev, 0, o.count);
+    o.paths = out.paths.read(dev, 0, o.count);
+    int ns = shadow.count.read(dev)[0];
+    o.shadow_rays = shadow.rays.read(dev, 0, ns);
+    o.shadow_items = shadow.items.read(dev, 0, ns);
+    o.shadow_contrib = shadow.contrib.read(dev, 0, ns);
     return o;
 }
 
@@ -135,7 +136,8 @@ void add_path(ShadeCase& c, glm::vec3 dir, glm::vec3 beta, int pixel, bool miss 
     PathState p{};
     p.throughput = {beta.x, beta.y, beta.z, 0};
     p.pixel = pixel;
-    p.bounce = c.bounce;
+    p.sample = c.sample;
+    p.item = pixel;  // the radiance slot: one per path here
     c.paths.push_back(p);
     c.hits.push_back(miss ? Hit{FLT_MAX, -1, 0, 0} : Hit{2.0f, 0, 0.25f, 0.25f});
     c.pixels = std::max(c.pixels, pixel + 1);
@@ -189,7 +191,9 @@ TEST_CASE("shade: mirror reflects exactly and pushes an offset ray", "[kernel][s
         const Ray& r = o.rays[k];
         const PathState& p = o.paths[k];
         glm::vec3 d(r.dir.x, r.dir.y, r.dir.z), org(r.org.x, r.org.y, r.org.z);
-        CHECK(p.bounce == 2);
+        CHECK(p.item == p.pixel);  // the continued path keeps its sample
+        CHECK(p.flags == WP_PATH_SPECULAR);
+        CHECK(p.throughput.w == 0.0f);  // a specular bounce has no density
         CHECK(r.org.w == 0.0f);
         CHECK(r.dir.w == FLT_MAX);
         // Origin: next to the hit point, strictly on the side the ray came from.

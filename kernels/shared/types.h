@@ -141,7 +141,8 @@ typedef struct TraceStats {
     X(__builtin_offsetof(MaterialData, emission)) X(__builtin_offsetof(MaterialData, kind)) \
     X(__builtin_offsetof(MaterialData, ior))                                              \
     X(sizeof(PathState)) X(__builtin_offsetof(PathState, pixel))                          \
-    X(__builtin_offsetof(PathState, flags)) X(__builtin_offsetof(PathState, bsdf_pdf))     \
+    X(__builtin_offsetof(PathState, sample)) X(__builtin_offsetof(PathState, item))        \
+    X(__builtin_offsetof(PathState, flags))                                               \
     X(sizeof(FilmPixel))                          \
     X(__builtin_offsetof(FilmPixel, comp))
 
@@ -180,16 +181,19 @@ typedef struct MaterialData {
     int pad2;         // 0
 } MaterialData;
 
-// One path of the current wavefront, stored in a queue slot next to its ray. 32 bytes.
-// Results go to per-pixel buffers indexed by `pixel`, never by the slot, so the image does
-// not depend on the order in which paths were pushed.
+// One path in flight, stored in a queue slot next to its ray. 32 bytes. Its results go to
+// the radiance slot of its sample (`item`), never to the queue slot, so the image does not
+// depend on the order in which paths were pushed. Every path of a queue is at the same
+// bounce (the pool refills between waves), so the bounce is a kernel argument.
 typedef struct PathState {
-    float4 throughput;  // xyz: path throughput (product of BSDF * cos / pdf, unitless); w: 0
+    float4 throughput;  // xyz: path throughput (product of BSDF * cos / pdf, unitless);
+                        // w: density (per steradian) with which the last bounce drew this
+                        // ray's direction, for MIS weights; 0 for camera rays and specular
+                        // bounces
     int pixel;          // pixel index y * width + x
-    int bounce;         // surface interactions so far (0 for camera rays)
+    uint sample;        // the pixel's sample index (the sampler's sample number)
+    int item;           // the sample's index within its wave: its radiance slot
     int flags;          // WP_PATH_* bits: WP_PATH_SPECULAR = the last bounce was specular
-    float bsdf_pdf;     // density (per steradian) with which the last bounce drew this ray's
-                        // direction, for MIS weights; 0 for camera rays and specular bounces
 } PathState;
 #define WP_PATH_SPECULAR 1
 
@@ -239,7 +243,8 @@ static_assert(sizeof(wp::CameraData) == 80 && offsetof(wp::CameraData, width) ==
 static_assert(sizeof(wp::MaterialData) == 48 && offsetof(wp::MaterialData, kind) == 32 &&
               offsetof(wp::MaterialData, ior) == 36);
 static_assert(sizeof(wp::PathState) == 32 && offsetof(wp::PathState, pixel) == 16 &&
-              offsetof(wp::PathState, flags) == 24 && offsetof(wp::PathState, bsdf_pdf) == 28);
+              offsetof(wp::PathState, sample) == 20 && offsetof(wp::PathState, item) == 24 &&
+              offsetof(wp::PathState, flags) == 28);
 static_assert(sizeof(wp::FilmPixel) == 32 && offsetof(wp::FilmPixel, comp) == 16);
 #endif
 

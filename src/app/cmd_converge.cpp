@@ -183,7 +183,7 @@ int run_converge(const ConvergeArgs& a) {
         } catch (const Error& e) {
             fail("--config '{}={}': {}", configs[ci].name, configs[ci].options, e.what());
         }
-        wavefronts.back()->enqueue_frame();  // warm-up: kernel JIT per local size happens here
+        wavefronts.back()->render_passes(1);  // warm-up: kernel JIT per local size happens here
     }
 
     // 4. Runs.

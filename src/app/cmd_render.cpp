@@ -173,7 +173,7 @@ int run_render(const RenderArgs& a) {
                    "accumulate {})\n",
                    nonfinite, counters[WP_COUNTER_GENERATE_NONFINITE],
                    counters[WP_COUNTER_SHADE_NONFINITE], counters[WP_COUNTER_ACCUMULATE_NONFINITE]);
-    render::ProfileSummary prof = render::summarize_profile(wf.profiler().records(), rays);
+    render::ProfileSummary prof = render::summarize_profile(wf.profiler(), rays);
     if (!a.quiet) {
         std::string names;
         for (const auto& o : outputs) names += (names.empty() ? "" : ", ") + o.string();
@@ -207,10 +207,13 @@ int run_render(const RenderArgs& a) {
         j["settings"] = {{"width", s.width}, {"height", s.height}, {"spp_requested", spp},
                          {"spp", res.frames}, {"depth", s.depth}, {"seed", s.seed},
                          {"traversal", render::traversal_name(s.traversal)},
-                         {"sampling", render::sampling_name(s.sampling)},
-                         {"glossy", render::glossy_name(s.glossy)},
-                         {"rr_depth", s.rr_depth},
-                         {"sampler", s.sobol ? "sobol" : "random"},
+                         {"sampling", render::sampling_name(s.estimator.sampling)},
+                         {"glossy", render::glossy_name(s.estimator.glossy)},
+                         {"rr_depth", s.estimator.rr_depth},
+                         {"sampler", s.estimator.sobol ? "sobol" : "random"},
+                         {"pool_paths", wf.pool_capacity()},
+                         {"pool_bytes", wf.pool_bytes()},
+                         {"film_bytes", wf.film_bytes()},
                          {"time_limit_s", a.time_s}, {"wall_s", res.wall_s},
                          {"render_s", res.render_s}};
         if (err)
@@ -224,7 +227,7 @@ int run_render(const RenderArgs& a) {
                           {"accumulate", counters[WP_COUNTER_ACCUMULATE_NONFINITE]}};
         j["trace"] = trace_path.string();
         write_text_atomically(a.profile, j.dump(2) + "\n");
-        write_text_atomically(trace_path, render::chrome_trace(wf.profiler().records()).dump() + "\n");
+        write_text_atomically(trace_path, render::chrome_trace(wf.profiler().trace(), wf.profiler().trace_dropped()).dump() + "\n");
         if (!a.quiet) fmt::print("profile: {} (trace: {})\n", a.profile, trace_path.string());
     }
     return 0;

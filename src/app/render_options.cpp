@@ -77,13 +77,13 @@ render::RenderSettings make_settings(const ConfigArgs& a, const Scene& scene) {
     else
         fail("--traversal '{}': expected stackless or stack", a.traversal);
     s.depth = a.depth_given || !scene.render.depth ? a.depth : *scene.render.depth;
-    s.sampling = render::parse_sampling(a.sampling);
-    s.glossy = render::parse_glossy(a.glossy);
+    s.estimator.sampling = render::parse_sampling(a.sampling);
+    s.estimator.glossy = render::parse_glossy(a.glossy);
     if (a.rr_depth < -1) fail("--rr-depth must be -1 (off) or >= 0 (got {})", a.rr_depth);
-    s.rr_depth = a.rr_depth;
+    s.estimator.rr_depth = a.rr_depth;
     if (a.sampler != "random" && a.sampler != "sobol")
         fail("--sampler '{}': expected random or sobol", a.sampler);
-    s.sobol = a.sampler == "sobol";
+    s.estimator.sobol = a.sampler == "sobol";
     return s;
 }
 

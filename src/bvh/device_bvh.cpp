@@ -6,22 +6,15 @@ namespace wp::bvh {
 
 DeviceBvh DeviceBvh::upload(const ocl::Device& dev, const FlatBvh& flat) {
     DeviceBvh d;
-    d.nodes = ocl::upload_buffer(dev, flat.nodes, "the BVH nodes");
-    d.links = ocl::upload_buffer(dev, flat.links, "the BVH links");
-    d.triangles = ocl::upload_buffer(dev, flat.triangles, "the triangles");
-    d.prim_ids = ocl::upload_buffer(dev, flat.prim_ids, "the triangle ids");
+    d.nodes = ocl::Array<BvhNode>::upload(dev, flat.nodes, "the BVH nodes");
+    d.links = ocl::Array<BvhLinks>::upload(dev, flat.links, "the BVH links");
+    d.triangles = ocl::Array<Triangle>::upload(dev, flat.triangles, "the triangles");
+    d.prim_ids = ocl::Array<int>::upload(dev, flat.prim_ids, "the triangle ids");
     d.node_count = static_cast<int>(flat.nodes.size());
     d.triangle_count = static_cast<int>(flat.triangles.size());
     d.bytes = flat.nodes.size() * sizeof(BvhNode) + flat.links.size() * sizeof(BvhLinks) +
               flat.triangles.size() * sizeof(Triangle) + flat.prim_ids.size() * sizeof(int);
     return d;
-}
-
-void DeviceBvh::set_args(::cl::Kernel& k, int first_arg) const {
-    k.setArg(first_arg + 0, nodes);
-    k.setArg(first_arg + 1, links);
-    k.setArg(first_arg + 2, triangles);
-    k.setArg(first_arg + 3, prim_ids);
 }
 
 const char* to_string(TraceVariant v) {
@@ -36,24 +29,20 @@ const char* to_string(TraceVariant v) {
 BatchTracer::BatchTracer(const ocl::Device& dev, bool stats, const std::string& extra_options)
     : dev_(dev), stats_(stats),
       program_(ocl::Program::build(dev, "intersect.cl", (stats ? "-D WP_STATS " : "") + extra_options)) {
-    closest_ = program_.kernel("intersect_closest_batch");
-    stack_ = program_.kernel("intersect_closest_stack_batch");
-    any_ = program_.kernel("intersect_any_batch");
-    dummy_stats_ = ::cl::Buffer(dev.context, CL_MEM_READ_WRITE, sizeof(TraceStats));
+    closest_ = ocl::Kernel(program_, "intersect_closest_batch", "intersect.closest");
+    stack_ = ocl::Kernel(program_, "intersect_closest_stack_batch", "intersect.closest_stack");
+    any_ = ocl::Kernel(program_, "intersect_any_batch", "intersect.any");
+    dummy_stats_ = ocl::Array<TraceStats>::allocate(dev, 1, "a placeholder");
 }
 
 ::cl::Event BatchTracer::enqueue(const DeviceBvh& bvh, const ::cl::Buffer& rays, int count, const ::cl::Buffer& hits,
                                  TraceVariant v, const ::cl::Buffer* stats, ocl::Profiler* profiler) {
-    ::cl::Kernel& k = v == TraceVariant::Stackless ? closest_ : v == TraceVariant::Stack ? stack_ : any_;
+    ocl::Kernel& k = v == TraceVariant::Stackless ? closest_ : v == TraceVariant::Stack ? stack_ : any_;
     if (stats && !stats_) fail("BatchTracer: statistics requested from a tracer built without them");
-    k.setArg(0, rays);
-    k.setArg(1, count);
-    bvh.set_args(k, 2);
-    k.setArg(6, hits);
-    k.setArg(7, stats ? *stats : dummy_stats_);
-    const char* name = v == TraceVariant::Any ? "intersect.any" : v == TraceVariant::Stack ? "intersect.closest_stack"
-                                                                                           : "intersect.closest";
-    return ocl::launch(dev_.queue, k, name, static_cast<std::size_t>(count), profiler);
+    // *_batch(rays, count, nodes, links, tris, prim_ids, hits, stats)
+    return k.launch({&dev_.queue, profiler}, static_cast<std::size_t>(count), rays, count,
+                    bvh.nodes, bvh.links, bvh.triangles, bvh.prim_ids, hits,
+                    stats ? *stats : dummy_stats_.buffer);
 }
 
 std::vector<Hit> BatchTracer::trace(const DeviceBvh& bvh, const std::vector<Ray>& rays, TraceVariant v,

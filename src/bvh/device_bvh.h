@@ -13,20 +13,23 @@
 
 #include "bvh/flatten.h"
 #include "cl/device.h"
+#include "cl/kernel.h"
 #include "cl/profiler.h"
 #include "cl/program.h"
 
 namespace wp::bvh {
 
+// The four arrays every traversal reads, in the order the kernels take them.
 struct DeviceBvh {
-    ::cl::Buffer nodes, links, triangles, prim_ids;
+    ocl::Array<BvhNode> nodes;
+    ocl::Array<BvhLinks> links;
+    ocl::Array<Triangle> triangles;  // leaf order
+    ocl::Array<int> prim_ids;        // leaf slot -> original triangle index
     int node_count = 0;
     int triangle_count = 0;
     std::size_t bytes = 0;
 
     static DeviceBvh upload(const ocl::Device& dev, const FlatBvh& flat);
-    // Sets the four BVH arguments of an intersect kernel, starting at `first_arg`.
-    void set_args(::cl::Kernel& k, int first_arg) const;
 };
 
 enum class TraceVariant { Stackless, Stack, Any };
@@ -51,8 +54,8 @@ class BatchTracer {
     const ocl::Device& dev_;
     bool stats_;
     ocl::Program program_;
-    ::cl::Kernel closest_, stack_, any_;
-    ::cl::Buffer dummy_stats_;
+    ocl::Kernel closest_, stack_, any_;
+    ocl::Array<TraceStats> dummy_stats_;
 };
 
 }  // namespace wp::bvh

@@ -21,13 +21,35 @@ void check_film(const std::vector<FilmPixel>& film, int width, int height) {
 
 }  // namespace
 
+void resolve_film_into(const FilmPixel* film, std::size_t count, std::size_t first, int samples,
+                       Image& out) {
+    double inv = samples > 0 ? 1.0 / samples : 0.0;
+    for (std::size_t k = 0; k < count; ++k)
+        for (int c = 0; c < 3; ++c)
+            out.rgb[3 * (first + k) + c] = static_cast<float>(value(film[k], c) * inv);
+}
+
 Image resolve_film(const std::vector<FilmPixel>& film, int width, int height, int samples) {
     check_film(film, width, height);
     Image img(width, height);
-    double inv = samples > 0 ? 1.0 / samples : 0.0;
-    for (std::size_t i = 0; i < film.size(); ++i)
-        for (int c = 0; c < 3; ++c) img.rgb[3 * i + c] = static_cast<float>(value(film[i], c) * inv);
+    resolve_film_into(film.data(), film.size(), 0, samples, img);
     return img;
+}
+
+void resolve_moments_into(const FilmPixel* film, const FilmPixel* film_sq, std::size_t count,
+                          std::size_t first, int samples, FilmMoments& m) {
+    const double n = samples;
+    for (std::size_t k = 0; k < count; ++k)
+        for (int c = 0; c < 3; ++c) {
+            const std::size_t i = first + k;
+            double s1 = value(film[k], c), s2 = value(film_sq[k], c);
+            double mean = samples > 0 ? s1 / n : 0.0;
+            // Unbiased sample variance; rounding can push a zero variance slightly negative.
+            double var = samples > 1 ? std::max(0.0, (s2 - s1 * mean) / (n - 1.0)) : 0.0;
+            m.mean.rgb[3 * i + c] = static_cast<float>(mean);
+            m.sample_variance.rgb[3 * i + c] = static_cast<float>(var);
+            m.mean_variance.rgb[3 * i + c] = static_cast<float>(samples > 0 ? var / n : 0.0);
+        }
 }
 
 FilmMoments resolve_moments(const std::vector<FilmPixel>& film,
@@ -36,17 +58,7 @@ FilmMoments resolve_moments(const std::vector<FilmPixel>& film,
     check_film(film, width, height);
     check_film(film_sq, width, height);
     FilmMoments m{Image(width, height), Image(width, height), Image(width, height)};
-    const double n = samples;
-    for (std::size_t i = 0; i < film.size(); ++i)
-        for (int c = 0; c < 3; ++c) {
-            double s1 = value(film[i], c), s2 = value(film_sq[i], c);
-            double mean = samples > 0 ? s1 / n : 0.0;
-            // Unbiased sample variance; rounding can push a zero variance slightly negative.
-            double var = samples > 1 ? std::max(0.0, (s2 - s1 * mean) / (n - 1.0)) : 0.0;
-            m.mean.rgb[3 * i + c] = static_cast<float>(mean);
-            m.sample_variance.rgb[3 * i + c] = static_cast<float>(var);
-            m.mean_variance.rgb[3 * i + c] = static_cast<float>(samples > 0 ? var / n : 0.0);
-        }
+    resolve_moments_into(film.data(), film_sq.data(), film.size(), 0, samples, m);
     return m;
 }
 

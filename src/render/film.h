@@ -15,15 +15,24 @@
 
 namespace wp::render {
 
-// Running mean: (sum + comp) / samples per channel, evaluated in double. samples = 0 gives
-// a black image. Throws wp::Error unless film.size() == width * height.
-Image resolve_film(const std::vector<FilmPixel>& film, int width, int height, int samples);
-
 struct FilmMoments {
     Image mean;             // m
     Image sample_variance;  // s², unbiased, clamped at 0
     Image mean_variance;    // s² / n: the variance of the mean m
 };
+
+// Running mean: (sum + comp) / samples per channel, evaluated in double. samples = 0 gives
+// a black image. Throws wp::Error unless film.size() == width * height.
+Image resolve_film(const std::vector<FilmPixel>& film, int width, int height, int samples);
+
+
+
+// The same for `count` film pixels starting at pixel `first` of `out` (images already sized):
+// lets the renderer resolve a large film chunk by chunk instead of copying it whole.
+void resolve_film_into(const FilmPixel* film, std::size_t count, std::size_t first, int samples,
+                       Image& out);
+void resolve_moments_into(const FilmPixel* film, const FilmPixel* film_sq, std::size_t count,
+                          std::size_t first, int samples, FilmMoments& out);
 
 // Mean, sample variance and variance of the mean from the sum and the sum of squares.
 // Throws wp::Error unless both films hold width * height pixels.

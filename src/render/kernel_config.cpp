@@ -32,8 +32,9 @@ GlossyModel parse_glossy(const std::string& s) {
     fail("--glossy '{}': expected phong or ggx", s);
 }
 
-KernelConfig KernelConfig::from_scene(const Scene& scene) {
+KernelConfig KernelConfig::from_scene(const Scene& scene, const Estimator& estimator) {
     KernelConfig c;
+    c.estimator = estimator;
     c.diffuse = c.mirror = c.glossy = c.glass = c.emission = false;
     for (const Material& m : scene.materials) {
         c.diffuse |= m.kind == MaterialKind::Diffuse;
@@ -45,13 +46,27 @@ KernelConfig KernelConfig::from_scene(const Scene& scene) {
     return c;
 }
 
-std::string KernelConfig::options() const {
+std::string KernelConfig::inject_options() const {
+    if (inject_nan == 0) return "";
+    return fmt::format(" -D WP_INJECT_NAN={} -D WP_INJECT_PERIOD={}", inject_nan, inject_period);
+}
+
+std::string KernelConfig::generate_options() const {
+    return fmt::format("-D WP_SAMPLER={}{}", int(estimator.sobol), inject_options());
+}
+
+std::string KernelConfig::shade_options() const {
     return fmt::format("-D WP_HAVE_DIFFUSE={} -D WP_HAVE_MIRROR={} -D WP_HAVE_GLOSSY={} "
                        "-D WP_HAVE_GLASS={} -D WP_HAVE_EMISSION={} -D WP_SAMPLING={} -D WP_GLOSSY_MODEL={} "
-                       "-D WP_HAVE_NEE={} -D WP_RR_DEPTH={} -D WP_SAMPLER={}",
+                       "-D WP_HAVE_NEE={} -D WP_RR_DEPTH={} -D WP_SAMPLER={}{}",
                        int(diffuse), int(mirror), int(glossy), int(glass), int(emission),
-                       static_cast<int>(sampling), static_cast<int>(glossy_model), int(nee()),
-                       rr_depth, int(sobol));
+                       static_cast<int>(estimator.sampling), static_cast<int>(estimator.glossy),
+                       int(nee()), estimator.rr_depth, int(estimator.sobol), inject_options());
+}
+
+std::string KernelConfig::accumulate_options() const {
+    std::string s = inject_options();
+    return s.empty() ? s : s.substr(1);
 }
 
 }  // namespace wp::render

@@ -1,15 +1,17 @@
 // kernel_config.h — what the kernels must model for one scene, as compile options.
 //
 // Derived from the scene (which material kinds exist, whether anything emits) and the
-// render settings (sampling strategy, glossy model, Russian roulette), and turned into a
-// short -D option string for shade.cl; code for absent material kinds, and light sampling
-// for scenes without emitters or strategies without it, is not compiled. The option string
-// is part of the program cache key (cl/program.h).
+// render settings (estimator, debug injection), and turned into short -D option strings,
+// one slice per stage (generate_options(), shade_options(), ...): code for absent material
+// kinds, and light sampling for scenes without emitters or strategies without it, is not
+// compiled, and a stage is not rebuilt for switches it does not read. The option strings
+// are part of the program cache key (cl/program.h).
 #pragma once
 
 #include <string>
 
 #include "scene/scene.h"
+#include "util/limits.h"
 
 namespace wp::render {
 
@@ -32,23 +34,48 @@ const char* glossy_name(GlossyModel g);
 Sampling parse_sampling(const std::string& s);
 GlossyModel parse_glossy(const std::string& s);
 
+// The estimator (--sampling, --glossy, --sampler, --rr-depth). The defaults here are the
+// shipped configuration, the one definition that the CLI and the renderer use.
+struct Estimator {
+    Sampling sampling = Sampling::Mis;
+    GlossyModel glossy = GlossyModel::Ggx;
+    bool sobol = true;   // Owen-scrambled Sobol points (WP_SAMPLER=1), else pcg4d numbers
+    int rr_depth = limits::kDefaultRrDepth;  // Russian roulette from this bounce on; < 0 off
+
+    // The original program's estimator: uniform hemisphere, weighted Phong lobe, random
+    // numbers, no roulette.
+    static Estimator original() { return {Sampling::Uniform, GlossyModel::Phong, false, -1}; }
+};
+
 struct KernelConfig {
     bool diffuse = true;   // some material is MaterialKind::Diffuse
     bool mirror = true;    // ... Mirror
     bool glossy = true;    // ... Glossy
     bool glass = true;     // ... Glass
     bool emission = true;  // some material emits
-    Sampling sampling = Sampling::Uniform;
-    GlossyModel glossy_model = GlossyModel::Phong;
-    bool sobol = false;    // --sampler sobol: Owen-scrambled Sobol points (WP_SAMPLER=1)
-    int rr_depth = -1;     // first bounce at which Russian roulette may end a path; < 0 off
+    Estimator estimator;
+    // Debug (render --debug-nan): WP_INJECT_* stage bits (kernels/shared/types.h) whose
+    // guards get a NaN for every pixel p with p % inject_period == 0; 0 compiles nothing.
+    int inject_nan = 0;
+    int inject_period = 97;
 
     // Light sampling is compiled only when something emits and the strategy uses it.
-    bool nee() const { return emission && (sampling == Sampling::Nee || sampling == Sampling::Mis); }
+    bool nee() const {
+        return emission && (estimator.sampling == Sampling::Nee || estimator.sampling == Sampling::Mis);
+    }
 
-    static KernelConfig from_scene(const Scene& scene);
-    // "-D WP_HAVE_DIFFUSE=1 -D WP_HAVE_MIRROR=0 ..." (every switch explicit).
-    std::string options() const;
+    // Every material kind and emission on (the generic program); the given estimator.
+    static KernelConfig from_scene(const Scene& scene, const Estimator& estimator = {});
+
+    // Option slices, every switch a stage reads explicit:
+    std::string generate_options() const;    // sampler, injection
+    std::string shade_options() const;       // materials, estimator, NEE, injection
+    std::string accumulate_options() const;  // injection
+    // What the renderer prints with -v: the shade slice, the largest.
+    std::string options() const { return shade_options(); }
+
+  private:
+    std::string inject_options() const;
 };
 
 }  // namespace wp::render

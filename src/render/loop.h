@@ -1,8 +1,12 @@
-// loop.h — runs frames of a Wavefront until the sample count or the time budget is reached.
+// loop.h — runs sample passes of a Wavefront until the sample count or the time budget is
+// reached.
 //
-// At most two frames are in flight: frame f is enqueued before the host waits for frame
-// f - 1, so the device never idles while the host enqueues. No buffer is read inside the
-// loop except the 8-byte ray total, and only when the progress line is due.
+// Each step renders k more samples per pixel (Wavefront::render_passes): k = 1, 1, 2, 4, ...
+// doubling up to the passes one wave of the path pool holds, so the samples done after each
+// step are 1, 2, 4, 8, ... (then multiples of the wave), and short renders, progress lines
+// and checkpoints keep a fine grain while long ones fill the pool. The image does not
+// depend on the steps (render/wavefront.h). No buffer is read inside the loop except the
+// 8-byte ray total, and only when the progress line is due.
 //
 // Checkpoints: when LoopOptions::checkpoint_due(frames, seconds) says so (after a frame is
 // enqueued), the loop calls checkpoint(frames, seconds); a blocking film read there sees
@@ -15,12 +19,13 @@
 
 #include "render/progress.h"
 #include "render/wavefront.h"
+#include "util/limits.h"
 
 namespace wp::render {
 
 struct LoopOptions {
-    int spp = 64;               // samples per pixel (= frames)
-    double time_limit_s = 0.0;  // stop after this render time (checked per frame); 0 = none
+    int spp = limits::kDefaultSpp;  // samples per pixel
+    double time_limit_s = 0.0;  // stop after this render time (checked per step); 0 = none
     // Optional checkpoint hook; `seconds` is render time so far (checkpoints excluded).
     std::function<bool(int frames, double seconds)> checkpoint_due;
     std::function<void(int frames, double seconds)> checkpoint;

@@ -1,8 +1,10 @@
 // profile.h — where the time went: the per-stage table, profile JSON and Chrome trace.
 //
-// Built from the profiling events of every named launch (cl/profiler.h), after pbrt-v4's
-// "Wavefront Kernel Profile". Times are device times (CL_PROFILING_COMMAND_START/END).
-// A frame's time is the span from the start of its first launch to the end of its last.
+// Built from the profiler's summary of every named launch (cl/profiler.h), after
+// pbrt-v4's "Wavefront Kernel Profile". Times are device times
+// (CL_PROFILING_COMMAND_START/END). Work is reported per sample per pixel (spp): a wave of
+// the path pool may hold several passes of the image or part of one, so "ms/spp" is a
+// wave's device span divided by the passes it held.
 #pragma once
 
 #include <cstdint>
@@ -20,22 +22,23 @@ struct StageProfile {
     std::string name;
     int launches = 0;
     double total_ms = 0.0;
-    double percent = 0.0;             // of the sum over all stages
-    double mean_ms_per_frame = 0.0;   // over frames
-    double max_ms_per_frame = 0.0;
+    double percent = 0.0;          // of the sum over all stages
+    double ms_per_spp = 0.0;       // total over the samples per pixel rendered
+    double max_ms_per_wave = 0.0;  // largest time of this stage in one wave
 };
 
 struct ProfileSummary {
-    std::vector<StageProfile> stages;  // in first-launch order
-    std::vector<double> frame_ms;      // per frame, device span
-    int frames = 0;
-    double kernel_ms = 0.0;            // sum of all launch times
-    double median_frame_ms = 0.0;
-    std::uint64_t rays = 0;            // rays traced (closest hit), all frames
-    double mrays_per_s = 0.0;          // rays / sum of frame spans
+    std::vector<StageProfile> stages;     // in first-launch order
+    std::vector<ocl::WaveRecord> waves;   // per wave (at most Profiler::kMaxWaves kept)
+    int wave_count = 0;
+    double spp = 0.0;                     // samples per pixel rendered
+    double kernel_ms = 0.0;               // sum of all launch times
+    double median_ms_per_spp = 0.0;       // median over waves of span / passes
+    std::uint64_t rays = 0;               // rays traced (closest hit and shadow)
+    double mrays_per_s = 0.0;             // rays / sum of wave spans
 };
 
-ProfileSummary summarize_profile(const std::vector<ocl::LaunchRecord>& records, std::uint64_t rays);
+ProfileSummary summarize_profile(const ocl::Profiler& profiler, std::uint64_t rays);
 
 // The table, ending in a newline.
 std::string format_profile_table(const ProfileSummary& p);
@@ -44,8 +47,9 @@ std::string format_profile_table(const ProfileSummary& p);
 nlohmann::json profile_json(const ProfileSummary& p);
 
 // Chrome trace-event JSON (Perfetto, chrome://tracing): one complete event ("ph": "X") per
-// launch on one track, times in microseconds from the first launch.
-nlohmann::json chrome_trace(const std::vector<ocl::LaunchRecord>& records);
+// recorded launch on one track, times in microseconds from the first launch; `dropped`
+// launches past the profiler's record limit are noted in the metadata.
+nlohmann::json chrome_trace(const std::vector<ocl::LaunchRecord>& records, std::size_t dropped = 0);
 
 // "out/prof.json" -> "out/prof.trace.json"
 std::filesystem::path trace_path_for(const std::filesystem::path& profile_path);

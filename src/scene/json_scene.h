@@ -1,4 +1,4 @@
-// json_scene.h — wavepath JSON scene files (README, "Scene files").
+// json_scene.h — wavepath JSON scene files (docs/scene-format.md).
 //
 // A scene file is one JSON object. Every key is checked: an unknown key anywhere is an error
 // that names its JSON path and suggests a close known key ("materail" → "material"); so is a

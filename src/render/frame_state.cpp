@@ -1,0 +1,77 @@
+#include "render/frame_state.h"
+
+#include <algorithm>
+
+#include "cl/profiler.h"
+#include "util/error.h"
+
+namespace wp::render {
+
+std::size_t PathPool::bytes_per_path(bool nee) {
+    std::size_t b = 2 * (sizeof(Ray) + sizeof(PathState)) + sizeof(Hit) + sizeof(float4);
+    if (nee) b += sizeof(Ray) + sizeof(int) + sizeof(float4);
+    return b;
+}
+
+PathPool::PathPool(const ocl::Device& dev, std::size_t capacity, bool nee) : capacity_(capacity) {
+    for (auto& q : queue) {
+        q.rays = ocl::Array<Ray>::allocate(dev, capacity, "the ray queue");
+        q.paths = ocl::Array<PathState>::allocate(dev, capacity, "the path queue");
+        q.count = ocl::Array<int>::zeros(dev, 1, "a queue length");
+    }
+    hits = ocl::Array<Hit>::allocate(dev, capacity, "the hit buffer");
+    radiance = ocl::Array<float4>::allocate(dev, capacity, "the sample radiance");
+    const std::size_t ns = nee ? capacity : 0;
+    shadow.rays = ocl::Array<Ray>::allocate(dev, ns, "the shadow ray queue");
+    shadow.items = ocl::Array<int>::allocate(dev, ns, "the shadow ray items");
+    shadow.contrib = ocl::Array<float4>::allocate(dev, ns, "the shadow contributions");
+    shadow.count = ocl::Array<int>::zeros(dev, 1, "the shadow queue length");
+    bytes_ = capacity * bytes_per_path(nee);
+}
+
+FilmBuffers::FilmBuffers(const ocl::Device& dev, std::size_t pixels, bool with_variance)
+    : variance(with_variance) {
+    sum = ocl::Array<FilmPixel>::allocate(dev, pixels, "the film");
+    if (variance) sum_sq = ocl::Array<FilmPixel>::allocate(dev, pixels, "the film's sum of squares");
+    counters = ocl::Array<int>::allocate(dev, WP_COUNTER_COUNT, "the counters");
+    ray_total = ocl::Array<cl_ulong>::allocate(dev, 1, "the ray total");
+    clear(dev);
+}
+
+void FilmBuffers::clear(const ocl::Device& dev) const {
+    sum.fill_zero(dev);
+    if (variance) sum_sq.fill_zero(dev);
+    counters.fill_zero(dev);
+    ray_total.fill_zero(dev);
+}
+
+std::size_t pool_capacity(const ocl::Device& dev, std::size_t pixels, std::size_t requested, bool nee) {
+    const std::size_t per_path = PathPool::bytes_per_path(nee);
+    const std::size_t widest = std::max(sizeof(Ray), sizeof(PathState));  // largest array element
+    if (requested > 0) {
+        dev.check_alloc(requested * widest, "a path pool array (--pool)");
+        dev.check_alloc(requested * per_path, "the path pool (--pool)");
+        return requested;
+    }
+    std::size_t cap = std::min(PathPool::kDefaultCapacity, 16 * std::max<std::size_t>(pixels, 1));
+    const auto budget = static_cast<std::size_t>(PathPool::kMemoryShare * double(dev.info.global_mem));
+    cap = std::min(cap, budget / per_path);
+    cap = std::min<std::size_t>(cap, dev.info.max_alloc / widest);
+    return std::max<std::size_t>(cap, ocl::kLocalSize);
+}
+
+}  // namespace wp::render
+
+namespace wp::render {
+
+QueueUpkeep::QueueUpkeep(const ocl::Device& dev, ocl::Profiler* profiler)
+    : target_{&dev.queue, profiler}, program_(ocl::Program::build(dev, "queue.cl")),
+      reset_(program_, "queue_reset", "queue.reset") {}
+
+::cl::Event QueueUpkeep::enqueue_reset(const ocl::Array<int>& count_in, const ocl::Array<int>& count_out,
+                                       const ocl::Array<int>& shadow_count,
+                                       const ocl::Array<cl_ulong>& ray_total) {
+    return reset_.launch(target_, 1, count_in, count_out, shadow_count, ray_total);
+}
+
+}  // namespace wp::render

@@ -1,0 +1,110 @@
+// frame_state.h — the buffers a render works in: the path pool (queues, hits, per-sample
+// radiance, the shadow queue), the film and the counters.
+//
+// The pool holds a fixed number of paths in flight (`capacity`), whatever the image size:
+// the renderer runs the samples of a render in waves of at most `capacity` samples
+// (render/wavefront.h), so memory is film + pool + scene, and an 8192² or 16384² image
+// needs no more pool than a small one. Every array of the pool is indexed by queue slot or
+// by the sample's item in its wave, both below `capacity`.
+//
+// Bytes per pooled path (PathPool::bytes_per_path): two ray queues and two path queues
+// (ping-pong between bounces, 2 x (32 + 32)), the hit of each ray (16), the sample's
+// radiance (16) and, with next-event estimation, one shadow ray with its item and
+// contribution (32 + 4 + 16): 212 bytes with NEE, 160 without. Bytes per film pixel: 32
+// (the double-float sum), 64 with --variance (the sum of squares too).
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+
+#include "cl/kernel.h"
+#include "shared/types.h"
+
+namespace wp::render {
+
+// A queue of paths: rays[i] and paths[i] for i < count[0] (the length lives on the device).
+struct PathQueue {
+    ocl::Array<Ray> rays;
+    ocl::Array<PathState> paths;
+    ocl::Array<int> count;  // one element
+};
+
+// The shadow rays shade pushes with next-event estimation (kernels/shadow.cl).
+struct ShadowQueue {
+    ocl::Array<Ray> rays;        // segments to the light points, hits need 0 < t < 1
+    ocl::Array<int> items;       // the sample each ray belongs to
+    ocl::Array<float4> contrib;  // its unoccluded contribution
+    ocl::Array<int> count;       // one element
+};
+
+class PathPool {
+  public:
+    // Largest pool chosen automatically: 2^20 paths (212 MiB with NEE).
+    static constexpr std::size_t kDefaultCapacity = std::size_t(1) << 20;
+    // The pool takes at most this share of the device's memory when sized automatically.
+    static constexpr double kMemoryShare = 0.25;
+
+    static std::size_t bytes_per_path(bool nee);
+
+    PathPool() = default;
+    // capacity paths; the shadow queue only with nee (else placeholders).
+    PathPool(const ocl::Device& dev, std::size_t capacity, bool nee);
+
+    std::size_t capacity() const { return capacity_; }
+    std::size_t bytes() const { return bytes_; }
+
+    PathQueue queue[2];          // bounce b reads queue[b & 1] and pushes into the other
+    ocl::Array<Hit> hits;        // closest hit of each queued ray (slot order)
+    ocl::Array<float4> radiance; // per item of the wave: the sample's radiance so far
+    ShadowQueue shadow;
+
+  private:
+    std::size_t capacity_ = 0;
+    std::size_t bytes_ = 0;
+};
+
+// The film: running sums per pixel (and of squares with variance), the NaN/Inf counters
+// per stage and the total of rays traced.
+struct FilmBuffers {
+    ocl::Array<FilmPixel> sum;
+    ocl::Array<FilmPixel> sum_sq;  // allocated only with variance
+    ocl::Array<int> counters;      // WP_COUNTER_COUNT
+    ocl::Array<cl_ulong> ray_total;  // one element
+    bool variance = false;
+
+    FilmBuffers() = default;
+    FilmBuffers(const ocl::Device& dev, std::size_t pixels, bool variance);
+    static std::size_t bytes_per_pixel(bool variance) {
+        return sizeof(FilmPixel) * (variance ? 2 : 1);
+    }
+    // Zeroes the sums, counters and ray total (enqueued).
+    void clear(const ocl::Device& dev) const;
+};
+
+// The pool capacity for a render of `pixels` pixels: `requested` when > 0, else the largest
+// of kDefaultCapacity, 16 passes of the image and the memory share of the device that holds;
+// at least one work-group. Throws wp::Error when a requested pool does not fit.
+std::size_t pool_capacity(const ocl::Device& dev, std::size_t pixels, std::size_t requested, bool nee);
+
+}  // namespace wp::render
+
+namespace wp::render {
+
+// Queue upkeep between intersect and shade (kernels/queue.cl), owned with the queues.
+class QueueUpkeep {
+  public:
+    QueueUpkeep() = default;
+    QueueUpkeep(const ocl::Device& dev, ocl::Profiler* profiler);
+    // queue_reset: ray_total += count_in; count_out = 0; shadow_count = 0 (one work-item).
+    ::cl::Event enqueue_reset(const ocl::Array<int>& count_in, const ocl::Array<int>& count_out,
+                              const ocl::Array<int>& shadow_count,
+                              const ocl::Array<cl_ulong>& ray_total);
+    const ocl::Program& program() const { return program_; }
+
+  private:
+    ocl::LaunchTarget target_;
+    ocl::Program program_;
+    ocl::Kernel reset_;
+};
+
+}  // namespace wp::render

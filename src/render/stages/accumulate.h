@@ -1,0 +1,30 @@
+// accumulate.h — the accumulate stage (kernels/accumulate.cl): a wave's sample radiance
+// into the film, in sample order per pixel.
+#pragma once
+
+#include "render/frame_state.h"
+#include "render/kernel_config.h"
+
+namespace wp::render {
+
+class AccumulateStage {
+  public:
+    AccumulateStage() = default;
+    // With variance the film's sum of squares is kept too (accumulate_film_variance).
+    AccumulateStage(const ocl::Device& dev, const KernelConfig& config, bool variance,
+                    ocl::Profiler* profiler = nullptr);
+
+    // accumulate_film(_variance): adds radiance[0..count) of a wave that starts at pixel
+    // first_pixel (generate.cl) to film.sum (and film.sum_sq).
+    ::cl::Event enqueue(const ocl::Array<float4>& radiance, int first_pixel, int count,
+                        int pixel_count, const FilmBuffers& film);
+    const ocl::Program& program() const { return program_; }
+
+  private:
+    ocl::LaunchTarget target_;
+    ocl::Program program_;
+    ocl::Kernel kernel_;
+    bool variance_ = false;
+};
+
+}  // namespace wp::render

@@ -1,0 +1,32 @@
+// generate.h — the generate stage (kernels/generate.cl): camera rays and fresh paths for
+// one wave of samples.
+#pragma once
+
+#include <cstdint>
+
+#include "render/frame_state.h"
+#include "render/kernel_config.h"
+
+namespace wp::render {
+
+class GenerateStage {
+  public:
+    GenerateStage() = default;
+    // Builds generate.cl with the config's generate slice (sampler, NaN injection).
+    GenerateStage(const ocl::Device& dev, const KernelConfig& config, ocl::Profiler* profiler = nullptr);
+
+    // generate_camera: `count` samples from pixel first_pixel of sample first_sample on
+    // (whole passes when first_pixel = 0, else part of one pass) into queue slots 0..count-1;
+    // clears their radiance; sets queue.count to count.
+    ::cl::Event enqueue(const CameraData& camera, std::uint32_t seed, int first_pixel,
+                        std::uint32_t first_sample, int count, const PathQueue& queue,
+                        const ocl::Array<float4>& radiance, const ocl::Array<int>& counters);
+    const ocl::Program& program() const { return program_; }
+
+  private:
+    ocl::LaunchTarget target_;
+    ocl::Program program_;
+    ocl::Kernel kernel_;
+};
+
+}  // namespace wp::render

@@ -1,0 +1,35 @@
+// intersect.h — the intersect stage (kernels/intersect.cl): closest hits of a queue.
+#pragma once
+
+#include "bvh/device_bvh.h"
+#include "render/frame_state.h"
+
+namespace wp::render {
+
+// Closest-hit traversal for the intersect stage (kernels/intersect.cl entry points).
+enum class Traversal {
+    Stackless,  // intersect_closest: the ordered stackless traversal (the default)
+    Stack,      // intersect_closest_stack: the small-stack traversal (speed reference)
+};
+
+// "stackless" / "stack".
+const char* traversal_name(Traversal t);
+
+class IntersectStage {
+  public:
+    IntersectStage() = default;
+    IntersectStage(const ocl::Device& dev, Traversal traversal, ocl::Profiler* profiler = nullptr);
+
+    // intersect_closest(_stack): hits[i] for every queued ray i < queue.count[0]. `launch`
+    // bounds the queue length (the count itself is read on the device).
+    ::cl::Event enqueue(std::size_t launch, const PathQueue& queue, const bvh::DeviceBvh& bvh,
+                        const ocl::Array<Hit>& hits);
+    const ocl::Program& program() const { return program_; }
+
+  private:
+    ocl::LaunchTarget target_;
+    ocl::Program program_;
+    ocl::Kernel kernel_;
+};
+
+}  // namespace wp::render

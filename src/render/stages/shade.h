@@ -1,0 +1,34 @@
+// shade.h — the shade stage (kernels/shade.cl): emission, scattering, light samples,
+// Russian roulette and the push of the surviving paths.
+#pragma once
+
+#include <cstdint>
+
+#include "render/device_scene.h"
+#include "render/frame_state.h"
+#include "render/kernel_config.h"
+
+namespace wp::render {
+
+class ShadeStage {
+  public:
+    ShadeStage() = default;
+    // Builds shade.cl with the config's shade slice (materials, estimator, NEE, injection).
+    ShadeStage(const ocl::Device& dev, const KernelConfig& config, ocl::Profiler* profiler = nullptr);
+
+    // shade_surface: shades the paths of `in` (hit by `hits`) at bounce `bounce`, adds
+    // emission to radiance[item], pushes survivors into `out` and, with NEE, light samples
+    // into `shadow`. `out` and `shadow` must have been emptied (QueueUpkeep::enqueue_reset).
+    ::cl::Event enqueue(std::size_t launch, const PathQueue& in, const ocl::Array<Hit>& hits,
+                        const ShadingScene& scene, std::uint32_t seed, int bounce, int max_depth,
+                        const ocl::Array<float4>& radiance, const ocl::Array<int>& counters,
+                        const PathQueue& out, const ShadowQueue& shadow);
+    const ocl::Program& program() const { return program_; }
+
+  private:
+    ocl::LaunchTarget target_;
+    ocl::Program program_;
+    ocl::Kernel kernel_;
+};
+
+}  // namespace wp::render

@@ -1,0 +1,27 @@
+// shadow.h — the shadow stage (kernels/shadow.cl): traces the light samples shade pushed
+// and adds the unoccluded ones to their samples' radiance.
+#pragma once
+
+#include "bvh/device_bvh.h"
+#include "render/frame_state.h"
+
+namespace wp::render {
+
+class ShadowStage {
+  public:
+    ShadowStage() = default;
+    ShadowStage(const ocl::Device& dev, ocl::Profiler* profiler = nullptr);
+
+    // shadow_trace: for every queued shadow ray without a hit, radiance[item] += contrib;
+    // adds the queue length to ray_total.
+    ::cl::Event enqueue(std::size_t launch, const ShadowQueue& shadow, const bvh::DeviceBvh& bvh,
+                        const ocl::Array<float4>& radiance, const ocl::Array<cl_ulong>& ray_total);
+    const ocl::Program& program() const { return program_; }
+
+  private:
+    ocl::LaunchTarget target_;
+    ocl::Program program_;
+    ocl::Kernel kernel_;
+};
+
+}  // namespace wp::render
