@@ -141,13 +141,14 @@ TEST_CASE("render: the stack and stackless traversals give bit-identical images"
 TEST_CASE("render: kernel options follow the scene's materials", "[render]") {
     Scene furnace = make_closed_box_furnace(1.0f, 0.5f);
     auto cfg = render::KernelConfig::from_scene(furnace);
-    CHECK(cfg.diffuse);
-    CHECK_FALSE(cfg.mirror);
-    CHECK_FALSE(cfg.glossy);
+    CHECK(cfg.has(MaterialKind::Diffuse));
+    CHECK_FALSE(cfg.has(MaterialKind::Mirror));
+    CHECK_FALSE(cfg.has(MaterialKind::Glossy));
     CHECK(cfg.emission);
     CHECK(cfg.options().find("-D WP_HAVE_MIRROR=0") != std::string::npos);
     auto box = render::KernelConfig::from_scene(make_cornell_box(200));
-    CHECK((box.diffuse && box.mirror && box.glossy && box.emission));
+    CHECK((box.has(MaterialKind::Diffuse) && box.has(MaterialKind::Mirror) &&
+           box.has(MaterialKind::Glossy) && box.emission));
     // Light sampling only for strategies that use it and scenes that emit.
     box.sampling = render::Sampling::Mis;
     CHECK(box.options().find("-D WP_HAVE_NEE=1") != std::string::npos);

@@ -39,8 +39,9 @@ void add_config_options(CLI::App* c, ConfigArgs& a) {
                   "BSDF sampling combined by the power heuristic; the default)")
         ->capture_default_str();
     c->add_option("--glossy", a.glossy,
-                  "Glossy BRDF: ggx (microfacet, roughness sqrt(2 / (exponent + 2)); the "
-                  "default) or phong (the original weighted Phong lobe)")
+                  "Glossy BRDF: ggx (microfacet with the material's roughness alpha; a Phong "
+                  "exponent e in a scene is alpha = sqrt(2 / (e + 2)); the default) or phong "
+                  "(the original weighted Phong lobe, exponent 2 / alpha^2 - 2)")
         ->capture_default_str();
     c->add_option("--sampler", a.sampler,
                   "Sample numbers: sobol (Owen-scrambled Sobol points, Burley 2020, per pixel "

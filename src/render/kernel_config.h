@@ -7,6 +7,7 @@
 // is part of the program cache key (cl/program.h).
 #pragma once
 
+#include <bitset>
 #include <string>
 
 #include "scene/scene.h"
@@ -33,10 +34,8 @@ Sampling parse_sampling(const std::string& s);
 GlossyModel parse_glossy(const std::string& s);
 
 struct KernelConfig {
-    bool diffuse = true;   // some material is MaterialKind::Diffuse
-    bool mirror = true;    // ... Mirror
-    bool glossy = true;    // ... Glossy
-    bool glass = true;     // ... Glass
+    // The material kinds some material uses (bit i: MaterialKind i), WP_HAVE_<KIND>.
+    std::bitset<kMaterialKindCount> kinds = std::bitset<kMaterialKindCount>().set();
     bool emission = true;  // some material emits
     Sampling sampling = Sampling::Uniform;
     GlossyModel glossy_model = GlossyModel::Phong;
@@ -44,6 +43,7 @@ struct KernelConfig {
     int rr_depth = -1;     // first bounce at which Russian roulette may end a path; < 0 off
 
     // Light sampling is compiled only when something emits and the strategy uses it.
+    bool has(MaterialKind k) const { return kinds.test(static_cast<std::size_t>(k)); }
     bool nee() const { return emission && (sampling == Sampling::Nee || sampling == Sampling::Mis); }
 
     static KernelConfig from_scene(const Scene& scene);

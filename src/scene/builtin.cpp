@@ -65,7 +65,7 @@ Scene make_cornell_box(int object_triangles) {
     glossy_m.name = "glossy";
     glossy_m.kind = MaterialKind::Glossy;
     glossy_m.albedo = glm::vec3(0.725f, 0.71f, 0.68f);
-    glossy_m.exponent = 100.0f;
+    glossy_m.alpha = phong_exponent_to_alpha(100.0f);  // the original scene's exponent 100
     const std::uint32_t glossy = s.add_material(glossy_m);
 
     // Walls, one quad each, normals (cross(u, v)) pointing into the box
@@ -163,7 +163,7 @@ Scene make_veach_plates() {
         m.name = "plate-" + std::to_string(k);
         m.kind = MaterialKind::Glossy;
         m.albedo = glm::vec3(0.7f);
-        m.exponent = 2.0f / (alphas[k] * alphas[k]) - 2.0f;
+        m.alpha = alphas[k];
         add(make_quad(c - 0.5f * eu - 0.5f * ev, eu, ev), s.add_material(m));
     }
 

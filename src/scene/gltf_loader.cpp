@@ -268,7 +268,7 @@ Material convert_material(const tinygltf::Material& gm, Notes& notes) {
             m.kind = MaterialKind::Mirror;
         } else {
             m.kind = MaterialKind::Glossy;
-            m.exponent = std::max(0.0f, 2.0f / (a * a) - 2.0f);
+            m.alpha = std::min(a, 1.0f);
         }
     } else {
         m.kind = MaterialKind::Diffuse;

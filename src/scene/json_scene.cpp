@@ -397,7 +397,12 @@ constexpr std::array<std::string_view, 6> kTopKeys{"version", "camera",  "backgr
 constexpr std::array<std::string_view, 8> kCameraKeys{"position", "look_at", "up",    "matrix",
                                                       "fov",      "fov_axis", "width", "height"};
 constexpr std::array<std::string_view, 3> kRenderKeys{"spp", "depth", "seed"};
-constexpr std::array<std::string_view, 4> kMaterialTypes{"diffuse", "mirror", "glossy", "glass"};
+// The kinds' names, in the order of kernels/shared/material_kinds.h.
+constexpr std::array<std::string_view, kMaterialKindCount> kMaterialTypes{
+#define WP_KIND_NAME_(KIND, Kind, name, specular, alpha, ior) #name,
+    WP_MATERIAL_KINDS(WP_KIND_NAME_)
+#undef WP_KIND_NAME_
+};
 constexpr std::array<std::string_view, 6> kAllMaterialKeys{"type",      "reflectance", "emission",
                                                            "roughness", "exponent",    "ior"};
 constexpr std::array<std::string_view, 5> kShapeTypes{"mesh", "quad", "box", "sphere", "stress"};
@@ -780,30 +785,34 @@ Material Reader::read_material(const Json& v, const Path& p) const {
         error(p.key("type"), "unknown material type '{}'{}; expected one of: {}", printable(type),
               hint.empty() ? "" : fmt::format(" (did you mean '{}'?)", hint), join(kMaterialTypes));
     }
+    Material m;
+    m.kind = *material_kind_from_string(type);
+    // The parameters of the kind (material_kinds.h columns ALPHA and IOR).
     std::vector<std::string_view> allowed{"type", "reflectance", "emission"};
-    if (type == "glossy") allowed.insert(allowed.end(), {"roughness", "exponent"});
-    if (type == "glass") allowed.push_back("ior");
+    if (uses_alpha(m.kind)) allowed.insert(allowed.end(), {"roughness", "exponent"});
+    if (uses_ior(m.kind)) allowed.push_back("ior");
     for (auto it = v.begin(); it != v.end(); ++it) {
         const std::string& k = it.key();
         if (std::find(allowed.begin(), allowed.end(), k) != allowed.end()) continue;
-        if (k == "roughness" || k == "exponent" || k == "ior")
+        if (k == "roughness" || k == "exponent" || k == "ior") {
+            std::vector<std::string_view> owners;  // the kinds that take k
+            for (int i = 0; i < kMaterialKindCount; ++i)
+                if (k == "ior" ? uses_ior(MaterialKind(i)) : uses_alpha(MaterialKind(i)))
+                    owners.push_back(kMaterialTypes[i]);
             error_at_key(p.key(k),
                          "'{}' does not apply to a {} material (it is a key of {} materials); a "
                          "{} material takes: {}",
-                         k, type, k == "ior" ? "glass" : "glossy", type, join(allowed));
+                         k, type, join(owners), type, join(allowed));
+        }
         check_keys(v, p, allowed, fmt::format("a {} material", type));
     }
 
-    Material m;
-    m.kind = type == "diffuse" ? MaterialKind::Diffuse
-           : type == "mirror"  ? MaterialKind::Mirror
-           : type == "glossy"  ? MaterialKind::Glossy
-                               : MaterialKind::Glass;
-    const bool tint = m.kind == MaterialKind::Mirror || m.kind == MaterialKind::Glass;
+    // Specular kinds (mirror, glass) tint; the others reflect 0.8 by default.
+    const bool tint = is_specular(m.kind);
     m.albedo = glm::vec3(tint ? 1.0f : 0.8f);
     if (const Json* x = find(v, "reflectance")) m.albedo = color(*x, p.key("reflectance"), 0.0f, 1.0f);
     if (const Json* x = find(v, "emission")) m.emission = color(*x, p.key("emission"), 0.0f, kNoMax);
-    if (m.kind == MaterialKind::Glossy) {
+    if (uses_alpha(m.kind)) {
         const Json* r = find(v, "roughness");
         const Json* e = find(v, "exponent");
         if (r && e)
@@ -811,11 +820,11 @@ Material Reader::read_material(const Json& v, const Path& p) const {
                          "give either \"roughness\" (GGX alpha) or \"exponent\", not both");
         if (r) {
             const double a = real_in(*r, p.key("roughness"), 1e-4, 1.0, false, false);
-            m.exponent = static_cast<float>(2.0 / (a * a) - 2.0);
+            m.alpha = static_cast<float>(a);
         }
-        if (e) m.exponent = real_in(*e, p.key("exponent"), 0.0, kNoMax, false, false);
+        if (e) m.alpha = phong_exponent_to_alpha(real_in(*e, p.key("exponent"), 0.0, kNoMax, false, false));
     }
-    if (m.kind == MaterialKind::Glass)
+    if (uses_ior(m.kind))
         if (const Json* x = find(v, "ior")) m.ior = real_in(*x, p.key("ior"), 0.0, 10.0, true, false);
     return m;
 }

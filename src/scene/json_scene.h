@@ -24,8 +24,9 @@
 //                     [r, g, b] in [0, 1]  [0.8 diffuse and glossy, 1 mirror and glass]
 //     "emission"      emitted radiance, front (counter-clockwise) side only: number or
 //                     [r, g, b] >= 0; any type  [0]
-//     "roughness"     glossy: GGX alpha in [0.0001, 1], stored as exponent 2/alpha^2 - 2
-//     "exponent"      glossy: the Phong-style exponent >= 0 instead    [100, alpha ≈ 0.14]
+//     "roughness"     glossy: GGX alpha in [0.0001, 1], stored as given
+//     "exponent"      glossy: a Phong exponent e >= 0 instead, alpha = sqrt(2 / (e + 2))
+//                     [100, alpha ≈ 0.14]
 //     "ior"           glass: index of refraction inside / outside, in (0, 10]   [1.5]
 //   "shapes"      array (required, non-empty); each an object with
 //     "type"          "mesh" | "quad" | "box" | "sphere" | "stress"

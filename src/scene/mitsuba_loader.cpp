@@ -1030,7 +1030,7 @@ Material Reader::read_bsdf(pugi::xml_node n, int depth, bool two_sided) {
             }
             if (alpha >= 1e-4) {
                 m.kind = MaterialKind::Glossy;
-                m.exponent = float(2.0 / (alpha * alpha) - 2.0);
+                m.alpha = float(alpha);
             } else {
                 note("alpha 0", n, "roughconductor with alpha < 1e-4 is rendered as a mirror");
             }

@@ -45,7 +45,7 @@
 //                           normal-incidence Fresnel reflectance ((η−1)² + k²)/((η+1)² + k²)
 //                           from eta/k, or from `material` (default "none" = 1) in the metal
 //                           table below; an unknown material: warning and F0 = 1
-//   roughconductor          Glossy, same albedo, exponent = 2/α² − 2 (α = alpha, default
+//   roughconductor          Glossy, same albedo, roughness α = alpha (default
 //                           0.1; alpha_u/alpha_v: geometric mean, warning; α > 1 → 1;
 //                           α < 1e-4 → Mirror); distribution beckmann (Mitsuba's default) →
 //                           GGX with the same α, one warning
