@@ -17,7 +17,7 @@ namespace fs = std::filesystem;
 
 void add_config_options(CLI::App* c, ConfigArgs& a) {
     c->add_option("--depth", a.depth,
-                  "Maximum number of bounces (scattering events) per path, >= 0: 0 shows only "
+                  "Maximum number of bounces (scattering events) per path, 0..2^20: 0 shows only "
                   "emitters and the background, D gathers light that bounced at most D times "
                   "(beats the scene file's depth)")
         ->capture_default_str()
@@ -55,7 +55,8 @@ void add_config_options(CLI::App* c, ConfigArgs& a) {
 }
 
 render::RenderSettings make_settings(const ConfigArgs& a, const Scene& scene) {
-    if (a.depth < 0) fail("--depth must be at least 0 (got {})", a.depth);
+    if (a.depth < limits::kMinDepth || a.depth > limits::kMaxDepth)
+        fail("--depth must be in {}..{} (got {})", limits::kMinDepth, limits::kMaxDepth, a.depth);
     render::RenderSettings s;
     s.width = scene.camera.width;
     s.height = scene.camera.height;
@@ -66,8 +67,10 @@ render::RenderSettings make_settings(const ConfigArgs& a, const Scene& scene) {
             fail("--size '{}': expected WIDTHxHEIGHT, e.g. 800x600", a.size);
         int w = std::stoi(m[1]), h = std::stoi(m[2]);
         if (w <= 0 || h <= 0) fail("--size '{}': width and height must be positive", a.size);
-        if (static_cast<long long>(w) * h > (1LL << 26))
-            fail("--size '{}': more than 2^26 pixels", a.size);
+        if (w > limits::kMaxImageSide || h > limits::kMaxImageSide)
+            fail("--size '{}': each side must be at most {} pixels", a.size, limits::kMaxImageSide);
+        if (static_cast<std::int64_t>(w) * h > limits::kMaxPixels)
+            fail("--size '{}': more than {} pixels", a.size, limits::kMaxPixels);
         s.width = w;
         s.height = h;
     }

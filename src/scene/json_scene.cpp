@@ -21,6 +21,7 @@
 #include "scene/procedural.h"
 #include "scene/validate.h"
 #include "util/error.h"
+#include "util/limits.h"
 #include "util/read_file.h"
 
 namespace wp {
@@ -30,10 +31,11 @@ namespace {
 namespace fs = std::filesystem;
 using Json = nlohmann::json;
 
-constexpr int kMaxFilmSide = 16384;
-constexpr long long kMaxFilmPixels = 1LL << 26;
-constexpr long long kMaxSpp = 1LL << 24;
-constexpr long long kMaxDepth = 1024;
+// Film, spp and depth ranges: util/limits.h, the same as the command line's.
+constexpr int kMaxFilmSide = limits::kMaxImageSide;
+constexpr long long kMaxFilmPixels = limits::kMaxPixels;
+constexpr long long kMaxSpp = limits::kMaxSpp;
+constexpr long long kMaxDepth = limits::kMaxDepth;
 
 // ---------------------------------------------------------------------------------------
 // JSON paths (RFC 6901 pointers) for messages
@@ -746,9 +748,9 @@ void Reader::syntax_error(std::size_t chars_read, const std::string& message,
 void Reader::read_render(const Json& v, const Path& p, Scene& s) const {
     expect_object(v, p, "render settings");
     check_keys(v, p, kRenderKeys, "\"render\"");
-    if (const Json* x = find(v, "spp")) s.render.spp = int(integer(*x, p.key("spp"), 1, kMaxSpp));
+    if (const Json* x = find(v, "spp")) s.render.spp = int(integer(*x, p.key("spp"), limits::kMinSpp, kMaxSpp));
     if (const Json* x = find(v, "depth"))
-        s.render.depth = int(integer(*x, p.key("depth"), 0, kMaxDepth));
+        s.render.depth = int(integer(*x, p.key("depth"), limits::kMinDepth, kMaxDepth));
     if (const Json* x = find(v, "seed"))
         s.render.seed = std::uint32_t(integer(*x, p.key("seed"), 0, 0xFFFFFFFFLL));
 }
@@ -1113,7 +1115,8 @@ void Reader::read_camera(const Json* v, const Path& p, Scene& s) const {
     if (const Json* x = get("width")) c.width = int(integer(*x, p.key("width"), 1, kMaxFilmSide));
     if (const Json* x = get("height")) c.height = int(integer(*x, p.key("height"), 1, kMaxFilmSide));
     if (static_cast<long long>(c.width) * c.height > kMaxFilmPixels)
-        error(p.key("height"), "the film {} x {} has more than 2^26 pixels", c.width, c.height);
+        error(p.key("height"), "the film {} x {} has more than {} pixels", c.width, c.height,
+              kMaxFilmPixels);
     float fov = 40.0f;
     if (const Json* x = get("fov")) fov = real_in(*x, p.key("fov"), 0.0, 180.0, true, true, "degrees");
     bool horizontal = false;

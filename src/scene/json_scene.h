@@ -14,10 +14,11 @@
 //                             direction, column 3 = position (Scene camera_from_matrix)
 //     "fov"                   field of view in degrees, in (0, 180)   [40]
 //     "fov_axis"              "y" (vertical) or "x" (horizontal)      ["y"]
-//     "width", "height"       film in pixels, 1..16384 each, at most 2^26 pixels  [800, 600]
+//     "width", "height"       film in pixels, 1..16384 each, at most 2^28 pixels  [800, 600]
+//                             (util/limits.h, as the command line)
 //   "background"  radiance of rays that leave the scene: a number (grey) or [r, g, b], >= 0  [0]
 //   "render"      optional defaults that --spp, --depth and --seed on the command line beat:
-//     "spp" 1..2^24, "depth" (bounces, as --depth) 0..1024, "seed" 0..2^32-1
+//     "spp" 1..2^24, "depth" (bounces, as --depth) 0..2^20, "seed" 0..2^32-1 (util/limits.h)
 //   "materials"   object: name → material
 //     "type"          "diffuse" | "mirror" | "glossy" | "glass"  (required)
 //     "reflectance"   albedo (diffuse, glossy: F0) or tint (mirror, glass): number or

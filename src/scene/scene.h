@@ -16,6 +16,7 @@
 
 #include "bvh/aabb.h"
 #include "shared/material_kinds.h"
+#include "util/limits.h"
 
 namespace wp {
 
@@ -60,8 +61,8 @@ struct Camera {
     glm::vec3 target{0.0f};
     glm::vec3 up{0.0f, 1.0f, 0.0f};
     float vfov_deg = 40.0f;  // vertical field of view
-    int width = 800;
-    int height = 600;
+    int width = limits::kDefaultWidth;
+    int height = limits::kDefaultHeight;
 };
 
 // Render settings a scene file may carry (JSON "render", Mitsuba integrator/sampler);
