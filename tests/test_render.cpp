@@ -1,6 +1,7 @@
 // test_render.cpp — the whole wavefront loop, end to end, against analytic answers.
 #include <catch2/catch.hpp>
 
+#include <cctype>
 #include <cmath>
 #include <cstring>
 #include <vector>
@@ -146,6 +147,14 @@ TEST_CASE("render: kernel options follow the scene's materials", "[render]") {
     CHECK_FALSE(cfg.has(MaterialKind::Glossy));
     CHECK(cfg.emission);
     CHECK(cfg.options().find("-D WP_HAVE_MIRROR=0") != std::string::npos);
+    // Every kind of material_kinds.h: a name that parses back, and its own switch.
+    for (int i = 0; i < kMaterialKindCount; ++i) {
+        const auto k = static_cast<MaterialKind>(i);
+        CHECK(material_kind_from_string(to_string(k)) == k);
+        std::string upper = to_string(k);
+        for (char& c : upper) c = char(std::toupper(static_cast<unsigned char>(c)));
+        CHECK(cfg.options().find("-D WP_HAVE_" + upper + "=") != std::string::npos);
+    }
     auto box = render::KernelConfig::from_scene(make_cornell_box(200));
     CHECK((box.has(MaterialKind::Diffuse) && box.has(MaterialKind::Mirror) &&
            box.has(MaterialKind::Glossy) && box.emission));

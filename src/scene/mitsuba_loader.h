@@ -79,8 +79,9 @@
 // that is not a number or out of range (fov outside (0, 180), film size outside
 // [1, 16384] or over 2^28 pixels, sample_count outside [1, 2^24] (util/limits.h), negative
 // radius, ...), a <ref> to an undefined id, a duplicate id, a mesh file that is missing or
-// fails to load, more than 2^25 triangles in all, BSDF nesting deeper than 16, element nesting deeper than
-// 64, an attribute that expands to over 64 KiB, int_ior / ext_ior outside [0.01, 100].
+// fails to load, more than 2^25 triangles in all, BSDF nesting deeper than 16, element
+// nesting deeper than 64, an attribute that expands to over 64 KiB, int_ior / ext_ior
+// outside [0.01, 100].
 // Nothing is printed; the result has passed validate_scene.
 #pragma once
 
