@@ -8,6 +8,7 @@
 
 #include "scene/procedural.h"
 #include "util/error.h"
+#include "util/limits.h"
 
 namespace wp {
 
@@ -98,8 +99,8 @@ Scene make_cornell_box(int object_triangles) {
     s.camera.target = glm::vec3(0.0f, 1.0f, 0.0f);
     s.camera.up = ey;
     s.camera.vfov_deg = 40.0f;
-    s.camera.width = 800;
-    s.camera.height = 600;
+    s.camera.width = limits::kDefaultWidth;  // the original program's 800 x 600
+    s.camera.height = limits::kDefaultHeight;
     return s;
 }
 

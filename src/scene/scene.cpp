@@ -114,9 +114,7 @@ Camera camera_from_matrix(const glm::mat4& m, float vfov_deg, int width, int hei
 }
 
 Camera frame_bounds(const Aabb& b) {
-    Camera c;
-    c.width = 800;
-    c.height = 600;
+    Camera c;  // limits::kDefaultWidth x kDefaultHeight
     c.vfov_deg = 40.0f;
     const float radius = std::max(0.5f * glm::length(b.extent()), 1e-3f);
     const float distance = radius / std::sin(glm::radians(0.5f * c.vfov_deg));
