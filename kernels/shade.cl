@@ -19,7 +19,7 @@
 // Each path owns its sample's radiance slot, so the radiance updates need no atomics and
 // do not depend on the queue order.
 //
-// Compile options (KernelConfig): WP_HAVE_DIFFUSE / _MIRROR / _GLOSSY / _GLASS select the material
+// Compile options (KernelConfig): WP_HAVE_<KIND> (material_kinds.h) select the material
 // code and WP_SAMPLING / WP_GLOSSY_MODEL the strategies (bsdf.h); WP_HAVE_EMISSION the
 // emission term; WP_HAVE_NEE (scene has emitters and WP_SAMPLING is NEE or MIS) the light
 // sampling; WP_RR_DEPTH the first bounce at which Russian roulette may end a path (< 0: off).
@@ -125,7 +125,7 @@ WP_FN int wp_shade_path(Ray ray, PathState path, Hit hit, WP_GLOBAL const Triang
 #if WP_HAVE_NEE
     // Next-event estimation: a point on a light chosen by power; the shadow ray is traced
     // by the shadow stage, which adds *contrib to the radiance when it is unoccluded.
-    if (m.kind != WP_MATERIAL_MIRROR && m.kind != WP_MATERIAL_GLASS && lights.count > 0) {
+    if (!wp_material_is_specular(m) && lights.count > 0) {
         float4 ul = wp_rng4(seed, pixel, sample, (uint)bounce, WP_RNG_LIGHT);
         int li = wp_light_pick(lights.cdf, lights.count, ul.z);
         int lp = lights.prims[li];

@@ -1,6 +1,7 @@
 // test_render.cpp — the whole wavefront loop, end to end, against analytic answers.
 #include <catch2/catch.hpp>
 
+#include <cctype>
 #include <cmath>
 #include <cstring>
 #include <vector>
@@ -141,13 +142,22 @@ TEST_CASE("render: the stack and stackless traversals give bit-identical images"
 TEST_CASE("render: kernel options follow the scene's materials", "[render]") {
     Scene furnace = make_closed_box_furnace(1.0f, 0.5f);
     auto cfg = render::KernelConfig::from_scene(furnace);
-    CHECK(cfg.diffuse);
-    CHECK_FALSE(cfg.mirror);
-    CHECK_FALSE(cfg.glossy);
+    CHECK(cfg.has(MaterialKind::Diffuse));
+    CHECK_FALSE(cfg.has(MaterialKind::Mirror));
+    CHECK_FALSE(cfg.has(MaterialKind::Glossy));
     CHECK(cfg.emission);
     CHECK(cfg.options().find("-D WP_HAVE_MIRROR=0") != std::string::npos);
+    // Every kind of material_kinds.h: a name that parses back, and its own switch.
+    for (int i = 0; i < kMaterialKindCount; ++i) {
+        const auto k = static_cast<MaterialKind>(i);
+        CHECK(material_kind_from_string(to_string(k)) == k);
+        std::string upper = to_string(k);
+        for (char& c : upper) c = char(std::toupper(static_cast<unsigned char>(c)));
+        CHECK(cfg.options().find("-D WP_HAVE_" + upper + "=") != std::string::npos);
+    }
     auto box = render::KernelConfig::from_scene(make_cornell_box(200));
-    CHECK((box.diffuse && box.mirror && box.glossy && box.emission));
+    CHECK((box.has(MaterialKind::Diffuse) && box.has(MaterialKind::Mirror) &&
+           box.has(MaterialKind::Glossy) && box.emission));
     // Light sampling only for strategies that use it and scenes that emit.
     box.estimator.sampling = render::Sampling::Mis;
     CHECK(box.options().find("-D WP_HAVE_NEE=1") != std::string::npos);

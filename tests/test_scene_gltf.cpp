@@ -250,16 +250,16 @@ TEST_CASE("gltf: metallic-roughness materials map by the documented rules", "[sc
     CHECK(m[1].kind == MaterialKind::Mirror);
     CHECK(m[1].albedo == glm::vec3(0.9f, 0.8f, 0.7f));
     CHECK(m[2].kind == MaterialKind::Glossy);
-    // alpha = 0.5^2 = 0.25, exponent = 2 / 0.25^2 - 2 = 30
-    CHECK(m[2].exponent == Approx(30.0f));
+    // alpha = 0.5^2 = 0.25
+    CHECK(m[2].alpha == Approx(0.25f));
     CHECK(m[3].kind == MaterialKind::Glass);
     CHECK(m[3].ior == Approx(1.33f));
     CHECK(m[4].kind == MaterialKind::Diffuse);
     CHECK(m[4].emission == glm::vec3(4.0f, 2.0f, 1.0f));
     CHECK(m[4].albedo == glm::vec3(0.0f));
-    // tex1: spec defaults (base 1, metallic 1, roughness 1) → glossy, alpha 1, exponent 0
+    // tex1: spec defaults (base 1, metallic 1, roughness 1) → glossy, alpha 1
     CHECK(m[5].kind == MaterialKind::Glossy);
-    CHECK(m[5].exponent == Approx(0.0f));
+    CHECK(m[5].alpha == Approx(1.0f));
     // Exactly one warning: textures, for the two textured materials
     REQUIRE(s.warnings.size() == 1);
     CHECK_THAT(s.warnings[0], Contains("mat.gltf") && Contains("2 material(s) use textures"));

@@ -120,9 +120,11 @@ ShadeOut run_shade(const ShadeCase& c) {
 // normal is +z. A hit with barycentrics (u, v) = (0.25, 0.25) is at (0.25, 0.25, 0).
 Triangle floor_triangle() { return {{0, 0, 0, 0}, {1, 0, 0, 0}, {0, 1, 0, 0}}; }
 
+// `exponent`: a Phong exponent, stored as the GGX alpha the host derives from it.
 MaterialData material(int kind, glm::vec3 albedo, glm::vec3 emission = glm::vec3(0), float exponent = 0) {
     MaterialData m{};
-    m.albedo = {albedo.x, albedo.y, albedo.z, exponent};
+    m.albedo = {albedo.x, albedo.y, albedo.z, 0};
+    m.alpha = kind == WP_MATERIAL_GLOSSY ? std::sqrt(2.0f / (exponent + 2.0f)) : 0.0f;
     m.emission = {emission.x, emission.y, emission.z, 0};
     m.kind = kind;
     return m;

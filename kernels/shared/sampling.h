@@ -72,9 +72,9 @@ WP_FN float wp_cosine_hemisphere_pdf(float cos_theta) {
 // Surfaces", EGSR 2007 (D, Smith Λ); Heitz, "Understanding the Masking-Shadowing Function
 // in Microfacet-Based BRDFs", JCGT 3(2), 2014 (height-correlated G2); Heitz, "Sampling the
 // GGX Distribution of Visible Normals", JCGT 7(4), 2018 (wp_ggx_sample_vndf, listing 1).
-// α is the roughness (width) parameter; the Phong exponent n maps to α = sqrt(2 / (n + 2))
-// (Walter et al. 2007, section 5.2).
-WP_FN float wp_phong_to_ggx_alpha(float exponent) { return sqrt(2.0f / (exponent + 2.0f)); }
+// α is the roughness (width) parameter (materials store it as given; a Phong exponent n
+// maps to α = sqrt(2 / (n + 2)), Walter et al. 2007, section 5.2: wp::phong_exponent_to_alpha
+// on the host, materials/glossy.h wp_ggx_alpha_to_phong on the device).
 
 // D(h): microfacet normals per steradian per unit projected area; h.z > 0.
 WP_FN float wp_ggx_d(float3 h, float alpha) {

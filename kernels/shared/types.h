@@ -12,6 +12,7 @@
 #define WP_TYPES_H
 
 #include "compat.h"
+#include "material_kinds.h"
 
 WP_NAMESPACE_BEGIN
 
@@ -139,7 +140,7 @@ typedef struct TraceStats {
     X(__builtin_offsetof(CameraData, up)) X(__builtin_offsetof(CameraData, width))        \
     X(__builtin_offsetof(CameraData, jitter)) X(sizeof(MaterialData))                     \
     X(__builtin_offsetof(MaterialData, emission)) X(__builtin_offsetof(MaterialData, kind)) \
-    X(__builtin_offsetof(MaterialData, ior))                                              \
+    X(__builtin_offsetof(MaterialData, ior)) X(__builtin_offsetof(MaterialData, alpha))   \
     X(sizeof(PathState)) X(__builtin_offsetof(PathState, pixel))                          \
     X(__builtin_offsetof(PathState, sample)) X(__builtin_offsetof(PathState, item))        \
     X(__builtin_offsetof(PathState, flags))                                               \
@@ -164,21 +165,15 @@ typedef struct CameraData {
     int pad;         // 0
 } CameraData;
 
-// Material kinds (MaterialData.kind); the values match wp::MaterialKind on the host.
-#define WP_MATERIAL_DIFFUSE 0
-#define WP_MATERIAL_MIRROR 1
-#define WP_MATERIAL_GLOSSY 2
-#define WP_MATERIAL_GLASS 3
-
-// A material as the shade stage reads it. 48 bytes.
+// A material as the shade stage reads it. 48 bytes. Kinds: material_kinds.h.
 typedef struct MaterialData {
-    float4 albedo;    // xyz: reflectance in [0, 1] per channel; w: glossy Phong exponent
+    float4 albedo;    // xyz: reflectance in [0, 1] per channel; w: 0
     float4 emission;  // xyz: emitted radiance (W sr^-1 m^-2), front side only; w: 0
-    int kind;         // WP_MATERIAL_*
-    float ior;        // glass: index of refraction, inside (behind the front face) / outside;
-                      // 0 for other kinds
-    int pad1;         // 0
-    int pad2;         // 0
+    int kind;         // WP_MATERIAL_* (material_kinds.h)
+    float ior;        // kinds that read it (glass): index of refraction, inside (behind the
+                      // front face) / outside; 0 for other kinds
+    float alpha;      // kinds that read it (glossy): GGX roughness α as given; 0 for others
+    int pad;          // 0
 } MaterialData;
 
 // One path in flight, stored in a queue slot next to its ray. 32 bytes. Its results go to
@@ -241,7 +236,7 @@ static_assert(sizeof(wp::TraceStats) == 8);
 static_assert(sizeof(wp::CameraData) == 80 && offsetof(wp::CameraData, width) == 64 &&
               offsetof(wp::CameraData, jitter) == 72);
 static_assert(sizeof(wp::MaterialData) == 48 && offsetof(wp::MaterialData, kind) == 32 &&
-              offsetof(wp::MaterialData, ior) == 36);
+              offsetof(wp::MaterialData, ior) == 36 && offsetof(wp::MaterialData, alpha) == 40);
 static_assert(sizeof(wp::PathState) == 32 && offsetof(wp::PathState, pixel) == 16 &&
               offsetof(wp::PathState, sample) == 20 && offsetof(wp::PathState, item) == 24 &&
               offsetof(wp::PathState, flags) == 28);

@@ -54,7 +54,7 @@ struct ConvergeArgs {
     std::string csv = "converge.csv";
     double target_relmse = -1.0;  // < 0: the worst configuration's equal-time relMSE
     std::uint32_t seed = 1;
-    int max_spp = 1 << 20;
+    int max_spp = limits::kMaxSpp;
     bool quiet = false;
 };
 
@@ -126,8 +126,10 @@ int run_converge(const ConvergeArgs& a) {
     if (!(a.time_s > 0.0) || !std::isfinite(a.time_s))
         fail("--time must be a positive number of seconds (got {})", a.time_s);
     if (a.runs < 1) fail("--runs must be at least 1 (got {})", a.runs);
-    if (a.reference_spp < 2) fail("--reference-spp must be at least 2 (got {})", a.reference_spp);
-    if (a.max_spp < 1) fail("--max-spp must be at least 1 (got {})", a.max_spp);
+    if (a.reference_spp < 2 || a.reference_spp > limits::kMaxSpp)
+        fail("--reference-spp must be in 2..{} (got {})", limits::kMaxSpp, a.reference_spp);
+    if (a.max_spp < limits::kMinSpp || a.max_spp > limits::kMaxSpp)
+        fail("--max-spp must be in {}..{} (got {})", limits::kMinSpp, limits::kMaxSpp, a.max_spp);
     std::vector<Config> configs;
     for (const auto& spec : a.configs) configs.push_back(parse_config(spec));
     if (configs.empty()) configs.push_back(parse_config("default="));

@@ -35,7 +35,7 @@ namespace {
 
 struct RenderArgs {
     std::string scene;     // empty: the built-in Cornell box
-    int spp = 64;
+    int spp = limits::kDefaultSpp;
     double time_s = 0.0;   // 0: no time limit
     ConfigArgs config;     // depth, size, device, traversal, sampling, glossy, rr-depth (app/render_options.h)
     std::uint32_t seed = 0;
@@ -73,8 +73,11 @@ int parse_debug_nan(const std::string& list) {
 
 int run_render(const RenderArgs& a) {
     // 1. Options.
-    if (a.spp < 1) fail("--spp must be at least 1 (got {})", a.spp);
-    if (a.config.depth < 0) fail("--depth must be at least 0 (got {})", a.config.depth);
+    if (a.spp < limits::kMinSpp || a.spp > limits::kMaxSpp)
+        fail("--spp must be in {}..{} (got {})", limits::kMinSpp, limits::kMaxSpp, a.spp);
+    if (a.config.depth < limits::kMinDepth || a.config.depth > limits::kMaxDepth)
+        fail("--depth must be in {}..{} (got {})", limits::kMinDepth, limits::kMaxDepth,
+             a.config.depth);
     if (!(a.time_s >= 0.0) || !std::isfinite(a.time_s))
         fail("--time must be a number of seconds >= 0 (got {})", a.time_s);
     if (a.debug_nan_period < 1)
@@ -246,7 +249,7 @@ Subcommand add_render(CLI::App& app) {
     auto* c = s.app;
     c->add_option("scene", args->scene, kSceneArgHelp);
     c->add_option("--spp", args->spp,
-                  "Samples per pixel (one per frame), >= 1 (beats the scene file's spp)")
+                  "Samples per pixel (one per frame), 1..2^24 (beats the scene file's spp)")
         ->capture_default_str()
         ->each([a = args.get()](const std::string&) { a->spp_given = true; });
     c->add_option("--time", args->time_s,

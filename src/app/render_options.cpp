@@ -17,7 +17,7 @@ namespace fs = std::filesystem;
 
 void add_config_options(CLI::App* c, ConfigArgs& a) {
     c->add_option("--depth", a.depth,
-                  "Maximum number of bounces (scattering events) per path, >= 0: 0 shows only "
+                  "Maximum number of bounces (scattering events) per path, 0..2^20: 0 shows only "
                   "emitters and the background, D gathers light that bounced at most D times "
                   "(beats the scene file's depth)")
         ->capture_default_str()
@@ -39,8 +39,9 @@ void add_config_options(CLI::App* c, ConfigArgs& a) {
                   "BSDF sampling combined by the power heuristic; the default)")
         ->capture_default_str();
     c->add_option("--glossy", a.glossy,
-                  "Glossy BRDF: ggx (microfacet, roughness sqrt(2 / (exponent + 2)); the "
-                  "default) or phong (the original weighted Phong lobe)")
+                  "Glossy BRDF: ggx (microfacet with the material's roughness alpha; a Phong "
+                  "exponent e in a scene is alpha = sqrt(2 / (e + 2)); the default) or phong "
+                  "(the original weighted Phong lobe, exponent 2 / alpha^2 - 2)")
         ->capture_default_str();
     c->add_option("--sampler", a.sampler,
                   "Sample numbers: sobol (Owen-scrambled Sobol points, Burley 2020, per pixel "
@@ -54,7 +55,8 @@ void add_config_options(CLI::App* c, ConfigArgs& a) {
 }
 
 render::RenderSettings make_settings(const ConfigArgs& a, const Scene& scene) {
-    if (a.depth < 0) fail("--depth must be at least 0 (got {})", a.depth);
+    if (a.depth < limits::kMinDepth || a.depth > limits::kMaxDepth)
+        fail("--depth must be in {}..{} (got {})", limits::kMinDepth, limits::kMaxDepth, a.depth);
     render::RenderSettings s;
     s.width = scene.camera.width;
     s.height = scene.camera.height;
@@ -65,8 +67,10 @@ render::RenderSettings make_settings(const ConfigArgs& a, const Scene& scene) {
             fail("--size '{}': expected WIDTHxHEIGHT, e.g. 800x600", a.size);
         int w = std::stoi(m[1]), h = std::stoi(m[2]);
         if (w <= 0 || h <= 0) fail("--size '{}': width and height must be positive", a.size);
-        if (static_cast<long long>(w) * h > (1LL << 26))
-            fail("--size '{}': more than 2^26 pixels", a.size);
+        if (w > limits::kMaxImageSide || h > limits::kMaxImageSide)
+            fail("--size '{}': each side must be at most {} pixels", a.size, limits::kMaxImageSide);
+        if (static_cast<std::int64_t>(w) * h > limits::kMaxPixels)
+            fail("--size '{}': more than {} pixels", a.size, limits::kMaxPixels);
         s.width = w;
         s.height = h;
     }

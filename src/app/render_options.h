@@ -14,18 +14,19 @@
 
 #include "render/wavefront.h"
 #include "scene/scene.h"
+#include "util/limits.h"
 
 namespace wp::app {
 
 struct ConfigArgs {
-    int depth = 3;
+    int depth = limits::kDefaultDepth;
     std::string size;                    // "WxH"; empty: the scene camera's size
     std::string device;
     std::string traversal = "stackless";  // stackless | stack
     std::string sampling = "mis";         // uniform | cosine | nee | mis
     std::string glossy = "ggx";           // phong | ggx
     std::string sampler = "sobol";        // sobol | random
-    int rr_depth = 3;                     // Russian roulette from this bounce on; -1 off
+    int rr_depth = limits::kDefaultRrDepth;  // Russian roulette from this bounce on; -1 off
     bool depth_given = false;             // --depth was on the command line (beats the scene's)
 };
 

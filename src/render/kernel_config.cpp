@@ -35,12 +35,10 @@ GlossyModel parse_glossy(const std::string& s) {
 KernelConfig KernelConfig::from_scene(const Scene& scene, const Estimator& estimator) {
     KernelConfig c;
     c.estimator = estimator;
-    c.diffuse = c.mirror = c.glossy = c.glass = c.emission = false;
+    c.kinds.reset();
+    c.emission = false;
     for (const Material& m : scene.materials) {
-        c.diffuse |= m.kind == MaterialKind::Diffuse;
-        c.mirror |= m.kind == MaterialKind::Mirror;
-        c.glossy |= m.kind == MaterialKind::Glossy;
-        c.glass |= m.kind == MaterialKind::Glass;
+        if (static_cast<int>(m.kind) < kMaterialKindCount) c.kinds.set(static_cast<std::size_t>(m.kind));
         c.emission |= m.emissive();
     }
     return c;
@@ -56,12 +54,16 @@ std::string KernelConfig::generate_options() const {
 }
 
 std::string KernelConfig::shade_options() const {
-    return fmt::format("-D WP_HAVE_DIFFUSE={} -D WP_HAVE_MIRROR={} -D WP_HAVE_GLOSSY={} "
-                       "-D WP_HAVE_GLASS={} -D WP_HAVE_EMISSION={} -D WP_SAMPLING={} -D WP_GLOSSY_MODEL={} "
-                       "-D WP_HAVE_NEE={} -D WP_RR_DEPTH={} -D WP_SAMPLER={}{}",
-                       int(diffuse), int(mirror), int(glossy), int(glass), int(emission),
-                       static_cast<int>(estimator.sampling), static_cast<int>(estimator.glossy),
-                       int(nee()), estimator.rr_depth, int(estimator.sobol), inject_options());
+    std::string o;
+#define WP_KIND_OPTION_(KIND, Kind, name, specular, alpha, ior) \
+    o += fmt::format("-D WP_HAVE_" #KIND "={} ", int(has(MaterialKind::Kind)));
+    WP_MATERIAL_KINDS(WP_KIND_OPTION_)
+#undef WP_KIND_OPTION_
+    return o + fmt::format("-D WP_HAVE_EMISSION={} -D WP_SAMPLING={} -D WP_GLOSSY_MODEL={} "
+                           "-D WP_HAVE_NEE={} -D WP_RR_DEPTH={} -D WP_SAMPLER={}{}",
+                           int(emission), static_cast<int>(estimator.sampling),
+                           static_cast<int>(estimator.glossy), int(nee()), estimator.rr_depth,
+                           int(estimator.sobol), inject_options());
 }
 
 std::string KernelConfig::accumulate_options() const {

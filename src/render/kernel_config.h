@@ -8,6 +8,7 @@
 // are part of the program cache key (cl/program.h).
 #pragma once
 
+#include <bitset>
 #include <string>
 
 #include "scene/scene.h"
@@ -48,10 +49,8 @@ struct Estimator {
 };
 
 struct KernelConfig {
-    bool diffuse = true;   // some material is MaterialKind::Diffuse
-    bool mirror = true;    // ... Mirror
-    bool glossy = true;    // ... Glossy
-    bool glass = true;     // ... Glass
+    // The material kinds some material uses (bit i: MaterialKind i), WP_HAVE_<KIND>.
+    std::bitset<kMaterialKindCount> kinds = std::bitset<kMaterialKindCount>().set();
     bool emission = true;  // some material emits
     Estimator estimator;
     // Debug (render --debug-nan): WP_INJECT_* stage bits (kernels/shared/types.h) whose
@@ -59,6 +58,7 @@ struct KernelConfig {
     int inject_nan = 0;
     int inject_period = 97;
 
+    bool has(MaterialKind k) const { return kinds.test(static_cast<std::size_t>(k)); }
     // Light sampling is compiled only when something emits and the strategy uses it.
     bool nee() const {
         return emission && (estimator.sampling == Sampling::Nee || estimator.sampling == Sampling::Mis);

@@ -8,6 +8,7 @@
 
 #include "scene/procedural.h"
 #include "util/error.h"
+#include "util/limits.h"
 
 namespace wp {
 
@@ -65,7 +66,7 @@ Scene make_cornell_box(int object_triangles) {
     glossy_m.name = "glossy";
     glossy_m.kind = MaterialKind::Glossy;
     glossy_m.albedo = glm::vec3(0.725f, 0.71f, 0.68f);
-    glossy_m.exponent = 100.0f;
+    glossy_m.alpha = phong_exponent_to_alpha(100.0f);  // the original scene's exponent 100
     const std::uint32_t glossy = s.add_material(glossy_m);
 
     // Walls, one quad each, normals (cross(u, v)) pointing into the box
@@ -98,8 +99,8 @@ Scene make_cornell_box(int object_triangles) {
     s.camera.target = glm::vec3(0.0f, 1.0f, 0.0f);
     s.camera.up = ey;
     s.camera.vfov_deg = 40.0f;
-    s.camera.width = 800;
-    s.camera.height = 600;
+    s.camera.width = limits::kDefaultWidth;  // the original program's 800 x 600
+    s.camera.height = limits::kDefaultHeight;
     return s;
 }
 
@@ -163,7 +164,7 @@ Scene make_veach_plates() {
         m.name = "plate-" + std::to_string(k);
         m.kind = MaterialKind::Glossy;
         m.albedo = glm::vec3(0.7f);
-        m.exponent = 2.0f / (alphas[k] * alphas[k]) - 2.0f;
+        m.alpha = alphas[k];
         add(make_quad(c - 0.5f * eu - 0.5f * ev, eu, ev), s.add_material(m));
     }
 

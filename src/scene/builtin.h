@@ -37,9 +37,9 @@ Scene make_closed_box_furnace(float emission, float albedo);
 
 // The multiple-importance-sampling scene in the spirit of Veach's (Veach & Guibas 1995,
 // figure 5; Veach 1997, figure 9.2), named "veach-plates": four glossy plates (GGX
-// roughness α = 0.30, 0.15, 0.07, 0.02 from front to back, i.e. Phong exponents
-// 2 / α² − 2; albedo / F0 0.7) tilted so that each mirrors the point (0, 3, −3) towards the
-// camera, and four spherical lights of radius 0.03, 0.1, 0.3, 0.9 at y = 3, z = −3,
+// roughness α = 0.30, 0.15, 0.07, 0.02 from front to back, stored as given; albedo / F0
+// 0.7) tilted so that each mirrors the point (0, 3, −3) towards the camera, and four
+// spherical lights of radius 0.03, 0.1, 0.3, 0.9 at y = 3, z = −3,
 // x = −2.25 … 2.25, with radiance ∝ 1 / r² (equal power: a small bright light … a large dim
 // light); a dark diffuse floor (albedo 0.2) at y = −0.6; black background. Camera (0, 2, 7)
 // looking at (0, 0.6, 0), 35 degrees vertical fov, 768 x 512.

@@ -23,6 +23,7 @@
 
 #include "scene/validate.h"
 #include "util/error.h"
+#include "util/limits.h"
 #include "util/read_file.h"
 
 namespace wp {
@@ -268,7 +269,7 @@ Material convert_material(const tinygltf::Material& gm, Notes& notes) {
             m.kind = MaterialKind::Mirror;
         } else {
             m.kind = MaterialKind::Glossy;
-            m.exponent = std::max(0.0f, 2.0f / (a * a) - 2.0f);
+            m.alpha = std::min(a, 1.0f);
         }
     } else {
         m.kind = MaterialKind::Diffuse;
@@ -410,14 +411,14 @@ Scene parse_gltf(std::string_view bytes, const fs::path& origin) {
                     fail("{}: cameras[{}].perspective.yfov {} is not in (0, pi)", file, node.camera,
                          gc.perspective.yfov);
                 c.vfov_deg = float(yfov);
-                c.width = 800;
-                c.height = 600;
+                c.width = limits::kDefaultWidth;
+                c.height = limits::kDefaultHeight;
                 const double aspect = gc.perspective.aspectRatio;
                 if (aspect > 0.0 && std::isfinite(aspect)) {
-                    const double h = std::round(800.0 / aspect);
-                    if (!(h >= 1.0 && h <= 16384.0))
-                        fail("{}: cameras[{}].perspective.aspectRatio {} gives a film of 800 x {}",
-                             file, node.camera, aspect, h);
+                    const double h = std::round(c.width / aspect);
+                    if (!(h >= 1.0 && h <= limits::kMaxImageSide))
+                        fail("{}: cameras[{}].perspective.aspectRatio {} gives a film of {} x {}",
+                             file, node.camera, aspect, c.width, h);
                     c.height = int(h);
                 }
                 c.position = glm::vec3(world[3]);

@@ -15,7 +15,7 @@
 //                                                          (1.5 when absent), albedo = base
 //   metallicFactor >= 0.5, GGX alpha = roughness² < 0.001  → Mirror, albedo = base colour
 //   metallicFactor >= 0.5                                   → Glossy, albedo = base colour,
-//                                                            exponent = 2 / alpha² − 2
+//                                                            roughness alpha (at most 1)
 //   otherwise                                               → Diffuse, albedo = base colour
 // base colour = baseColorFactor rgb, clamped to [0, 1]; emission = emissiveFactor ×
 // KHR_materials_emissive_strength (any kind). ONE warning per file for each approximation:

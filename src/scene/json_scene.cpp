@@ -21,6 +21,7 @@
 #include "scene/procedural.h"
 #include "scene/validate.h"
 #include "util/error.h"
+#include "util/limits.h"
 #include "util/read_file.h"
 
 namespace wp {
@@ -30,10 +31,11 @@ namespace {
 namespace fs = std::filesystem;
 using Json = nlohmann::json;
 
-constexpr int kMaxFilmSide = 16384;
-constexpr long long kMaxFilmPixels = 1LL << 26;
-constexpr long long kMaxSpp = 1LL << 24;
-constexpr long long kMaxDepth = 1024;
+// Film, spp and depth ranges: util/limits.h, the same as the command line's.
+constexpr int kMaxFilmSide = limits::kMaxImageSide;
+constexpr long long kMaxFilmPixels = limits::kMaxPixels;
+constexpr long long kMaxSpp = limits::kMaxSpp;
+constexpr long long kMaxDepth = limits::kMaxDepth;
 
 // ---------------------------------------------------------------------------------------
 // JSON paths (RFC 6901 pointers) for messages
@@ -397,7 +399,12 @@ constexpr std::array<std::string_view, 6> kTopKeys{"version", "camera",  "backgr
 constexpr std::array<std::string_view, 8> kCameraKeys{"position", "look_at", "up",    "matrix",
                                                       "fov",      "fov_axis", "width", "height"};
 constexpr std::array<std::string_view, 3> kRenderKeys{"spp", "depth", "seed"};
-constexpr std::array<std::string_view, 4> kMaterialTypes{"diffuse", "mirror", "glossy", "glass"};
+// The kinds' names, in the order of kernels/shared/material_kinds.h.
+constexpr std::array<std::string_view, kMaterialKindCount> kMaterialTypes{
+#define WP_KIND_NAME_(KIND, Kind, name, specular, alpha, ior) #name,
+    WP_MATERIAL_KINDS(WP_KIND_NAME_)
+#undef WP_KIND_NAME_
+};
 constexpr std::array<std::string_view, 6> kAllMaterialKeys{"type",      "reflectance", "emission",
                                                            "roughness", "exponent",    "ior"};
 constexpr std::array<std::string_view, 5> kShapeTypes{"mesh", "quad", "box", "sphere", "stress"};
@@ -741,9 +748,9 @@ void Reader::syntax_error(std::size_t chars_read, const std::string& message,
 void Reader::read_render(const Json& v, const Path& p, Scene& s) const {
     expect_object(v, p, "render settings");
     check_keys(v, p, kRenderKeys, "\"render\"");
-    if (const Json* x = find(v, "spp")) s.render.spp = int(integer(*x, p.key("spp"), 1, kMaxSpp));
+    if (const Json* x = find(v, "spp")) s.render.spp = int(integer(*x, p.key("spp"), limits::kMinSpp, kMaxSpp));
     if (const Json* x = find(v, "depth"))
-        s.render.depth = int(integer(*x, p.key("depth"), 0, kMaxDepth));
+        s.render.depth = int(integer(*x, p.key("depth"), limits::kMinDepth, kMaxDepth));
     if (const Json* x = find(v, "seed"))
         s.render.seed = std::uint32_t(integer(*x, p.key("seed"), 0, 0xFFFFFFFFLL));
 }
@@ -780,30 +787,34 @@ Material Reader::read_material(const Json& v, const Path& p) const {
         error(p.key("type"), "unknown material type '{}'{}; expected one of: {}", printable(type),
               hint.empty() ? "" : fmt::format(" (did you mean '{}'?)", hint), join(kMaterialTypes));
     }
+    Material m;
+    m.kind = *material_kind_from_string(type);
+    // The parameters of the kind (material_kinds.h columns ALPHA and IOR).
     std::vector<std::string_view> allowed{"type", "reflectance", "emission"};
-    if (type == "glossy") allowed.insert(allowed.end(), {"roughness", "exponent"});
-    if (type == "glass") allowed.push_back("ior");
+    if (uses_alpha(m.kind)) allowed.insert(allowed.end(), {"roughness", "exponent"});
+    if (uses_ior(m.kind)) allowed.push_back("ior");
     for (auto it = v.begin(); it != v.end(); ++it) {
         const std::string& k = it.key();
         if (std::find(allowed.begin(), allowed.end(), k) != allowed.end()) continue;
-        if (k == "roughness" || k == "exponent" || k == "ior")
+        if (k == "roughness" || k == "exponent" || k == "ior") {
+            std::vector<std::string_view> owners;  // the kinds that take k
+            for (int i = 0; i < kMaterialKindCount; ++i)
+                if (k == "ior" ? uses_ior(MaterialKind(i)) : uses_alpha(MaterialKind(i)))
+                    owners.push_back(kMaterialTypes[i]);
             error_at_key(p.key(k),
                          "'{}' does not apply to a {} material (it is a key of {} materials); a "
                          "{} material takes: {}",
-                         k, type, k == "ior" ? "glass" : "glossy", type, join(allowed));
+                         k, type, join(owners), type, join(allowed));
+        }
         check_keys(v, p, allowed, fmt::format("a {} material", type));
     }
 
-    Material m;
-    m.kind = type == "diffuse" ? MaterialKind::Diffuse
-           : type == "mirror"  ? MaterialKind::Mirror
-           : type == "glossy"  ? MaterialKind::Glossy
-                               : MaterialKind::Glass;
-    const bool tint = m.kind == MaterialKind::Mirror || m.kind == MaterialKind::Glass;
+    // Specular kinds (mirror, glass) tint; the others reflect 0.8 by default.
+    const bool tint = is_specular(m.kind);
     m.albedo = glm::vec3(tint ? 1.0f : 0.8f);
     if (const Json* x = find(v, "reflectance")) m.albedo = color(*x, p.key("reflectance"), 0.0f, 1.0f);
     if (const Json* x = find(v, "emission")) m.emission = color(*x, p.key("emission"), 0.0f, kNoMax);
-    if (m.kind == MaterialKind::Glossy) {
+    if (uses_alpha(m.kind)) {
         const Json* r = find(v, "roughness");
         const Json* e = find(v, "exponent");
         if (r && e)
@@ -811,11 +822,11 @@ Material Reader::read_material(const Json& v, const Path& p) const {
                          "give either \"roughness\" (GGX alpha) or \"exponent\", not both");
         if (r) {
             const double a = real_in(*r, p.key("roughness"), 1e-4, 1.0, false, false);
-            m.exponent = static_cast<float>(2.0 / (a * a) - 2.0);
+            m.alpha = static_cast<float>(a);
         }
-        if (e) m.exponent = real_in(*e, p.key("exponent"), 0.0, kNoMax, false, false);
+        if (e) m.alpha = phong_exponent_to_alpha(real_in(*e, p.key("exponent"), 0.0, kNoMax, false, false));
     }
-    if (m.kind == MaterialKind::Glass)
+    if (uses_ior(m.kind))
         if (const Json* x = find(v, "ior")) m.ior = real_in(*x, p.key("ior"), 0.0, 10.0, true, false);
     return m;
 }
@@ -1104,7 +1115,8 @@ void Reader::read_camera(const Json* v, const Path& p, Scene& s) const {
     if (const Json* x = get("width")) c.width = int(integer(*x, p.key("width"), 1, kMaxFilmSide));
     if (const Json* x = get("height")) c.height = int(integer(*x, p.key("height"), 1, kMaxFilmSide));
     if (static_cast<long long>(c.width) * c.height > kMaxFilmPixels)
-        error(p.key("height"), "the film {} x {} has more than 2^26 pixels", c.width, c.height);
+        error(p.key("height"), "the film {} x {} has more than {} pixels", c.width, c.height,
+              kMaxFilmPixels);
     float fov = 40.0f;
     if (const Json* x = get("fov")) fov = real_in(*x, p.key("fov"), 0.0, 180.0, true, true, "degrees");
     bool horizontal = false;

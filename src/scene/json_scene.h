@@ -14,18 +14,20 @@
 //                             direction, column 3 = position (Scene camera_from_matrix)
 //     "fov"                   field of view in degrees, in (0, 180)   [40]
 //     "fov_axis"              "y" (vertical) or "x" (horizontal)      ["y"]
-//     "width", "height"       film in pixels, 1..16384 each, at most 2^26 pixels  [800, 600]
+//     "width", "height"       film in pixels, 1..16384 each, at most 2^28 pixels  [800, 600]
+//                             (util/limits.h, as the command line)
 //   "background"  radiance of rays that leave the scene: a number (grey) or [r, g, b], >= 0  [0]
 //   "render"      optional defaults that --spp, --depth and --seed on the command line beat:
-//     "spp" 1..2^24, "depth" (bounces, as --depth) 0..1024, "seed" 0..2^32-1
+//     "spp" 1..2^24, "depth" (bounces, as --depth) 0..2^20, "seed" 0..2^32-1 (util/limits.h)
 //   "materials"   object: name → material
 //     "type"          "diffuse" | "mirror" | "glossy" | "glass"  (required)
 //     "reflectance"   albedo (diffuse, glossy: F0) or tint (mirror, glass): number or
 //                     [r, g, b] in [0, 1]  [0.8 diffuse and glossy, 1 mirror and glass]
 //     "emission"      emitted radiance, front (counter-clockwise) side only: number or
 //                     [r, g, b] >= 0; any type  [0]
-//     "roughness"     glossy: GGX alpha in [0.0001, 1], stored as exponent 2/alpha^2 - 2
-//     "exponent"      glossy: the Phong-style exponent >= 0 instead    [100, alpha ≈ 0.14]
+//     "roughness"     glossy: GGX alpha in [0.0001, 1], stored as given
+//     "exponent"      glossy: a Phong exponent e >= 0 instead, alpha = sqrt(2 / (e + 2))
+//                     [100, alpha ≈ 0.14]
 //     "ior"           glass: index of refraction inside / outside, in (0, 10]   [1.5]
 //   "shapes"      array (required, non-empty); each an object with
 //     "type"          "mesh" | "quad" | "box" | "sphere" | "stress"

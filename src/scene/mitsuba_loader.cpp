@@ -19,6 +19,7 @@
 #include "scene/procedural.h"
 #include "scene/validate.h"
 #include "util/error.h"
+#include "util/limits.h"
 #include "util/read_file.h"
 
 namespace wp {
@@ -30,9 +31,10 @@ constexpr double kPi = std::numbers::pi;
 
 // Limits against hostile input (see mitsuba_loader.h).
 constexpr int kUnboundedDepth = 64; // bounces for max_depth -1 (and the cap)
-constexpr int kMaxFilmSide = 16384;
-constexpr long long kMaxFilmPixels = 1LL << 26;
-constexpr long long kMaxSpp = 1LL << 24;
+// Film and spp ranges: util/limits.h, the same as the command line's.
+constexpr int kMaxFilmSide = limits::kMaxImageSide;
+constexpr long long kMaxFilmPixels = limits::kMaxPixels;
+constexpr long long kMaxSpp = limits::kMaxSpp;
 constexpr std::size_t kMaxTriangles = std::size_t(1) << 25;
 constexpr int kMaxBsdfNesting = 16;
 constexpr int kMaxElementNesting = 64;
@@ -844,8 +846,8 @@ void Reader::read_sensor(pugi::xml_node n) {
             if (width < 1 || width > kMaxFilmSide || height < 1 || height > kMaxFilmSide ||
                 width * height > kMaxFilmPixels)
                 error(wprop ? wprop->node : item.node,
-                      "film size {} x {} is out of range (each side 1..{}, at most 2^26 pixels)",
-                      width, height, kMaxFilmSide);
+                      "film size {} x {} is out of range (each side 1..{}, at most {} pixels)",
+                      width, height, kMaxFilmSide, kMaxFilmPixels);
             mark_used(f, {"file_format", "pixel_format", "component_format", "banner",
                           "sample_border", "compensate", "high_quality_edges"});
             for (auto& fi : f.nested) {
@@ -864,9 +866,9 @@ void Reader::read_sensor(pugi::xml_node n) {
             item.used = true;
             Obj s = collect(item.node);
             if (auto c = get_int(s, "sample_count")) {
-                if (*c < 1 || *c > kMaxSpp)
+                if (*c < limits::kMinSpp || *c > kMaxSpp)
                     error(prop(s, "sample_count", {"integer"}, "")->node,
-                          "sample_count {} is out of range (1..2^24)", *c);
+                          "sample_count {} is out of range ({}..{})", *c, limits::kMinSpp, kMaxSpp);
                 scene_.render.spp = int(*c);
             }
             if (auto seed = get_int(s, "seed")) {
@@ -1030,7 +1032,7 @@ Material Reader::read_bsdf(pugi::xml_node n, int depth, bool two_sided) {
             }
             if (alpha >= 1e-4) {
                 m.kind = MaterialKind::Glossy;
-                m.exponent = float(2.0 / (alpha * alpha) - 2.0);
+                m.alpha = float(alpha);
             } else {
                 note("alpha 0", n, "roughconductor with alpha < 1e-4 is rendered as a mirror");
             }

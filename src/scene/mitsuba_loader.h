@@ -45,7 +45,7 @@
 //                           normal-incidence Fresnel reflectance ((η−1)² + k²)/((η+1)² + k²)
 //                           from eta/k, or from `material` (default "none" = 1) in the metal
 //                           table below; an unknown material: warning and F0 = 1
-//   roughconductor          Glossy, same albedo, exponent = 2/α² − 2 (α = alpha, default
+//   roughconductor          Glossy, same albedo, roughness α = alpha (default
 //                           0.1; alpha_u/alpha_v: geometric mean, warning; α > 1 → 1;
 //                           α < 1e-4 → Mirror); distribution beckmann (Mitsuba's default) →
 //                           GGX with the same α, one warning
@@ -77,10 +77,11 @@
 // (known but unsupported ones such as <include>, <medium> only warn), an attribute the
 // element does not take, a missing required attribute, an undefined $parameter, a value
 // that is not a number or out of range (fov outside (0, 180), film size outside
-// [1, 16384] or over 2^26 pixels, sample_count outside [1, 2^24], negative radius, ...),
-// a <ref> to an undefined id, a duplicate id, a mesh file that is missing or fails to load,
-// more than 2^25 triangles in all, BSDF nesting deeper than 16, element nesting deeper than
-// 64, an attribute that expands to over 64 KiB, int_ior / ext_ior outside [0.01, 100].
+// [1, 16384] or over 2^28 pixels, sample_count outside [1, 2^24] (util/limits.h), negative
+// radius, ...), a <ref> to an undefined id, a duplicate id, a mesh file that is missing or
+// fails to load, more than 2^25 triangles in all, BSDF nesting deeper than 16, element
+// nesting deeper than 64, an attribute that expands to over 64 KiB, int_ior / ext_ior
+// outside [0.01, 100].
 // Nothing is printed; the result has passed validate_scene.
 #pragma once
 

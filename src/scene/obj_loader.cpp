@@ -248,7 +248,7 @@ Material convert_material(const tinyobj::material_t& mt, const std::string& file
     } else if ((mt.illum == 2 || reflect) && kd_zero && ks_some && std::isfinite(ns)) {
         m.kind = MaterialKind::Glossy;
         m.albedo = clamped("Ks", vec3(mt.specular));
-        m.exponent = std::max(0.0f, ns);
+        m.alpha = phong_exponent_to_alpha(std::max(0.0f, ns));
     } else {
         m.kind = MaterialKind::Diffuse;
         m.albedo = clamped("Kd", vec3(mt.diffuse));

@@ -16,7 +16,7 @@
 //                                                          albedo = Tf (1 when Tf ≈ 0)
 //   illum 3 or 5, Kd ≈ 0, Ks > 0, and Ns >= 1000 or Ks perfect
 //                                                        → Mirror, albedo = Ks
-//   illum 2, 3 or 5, Kd ≈ 0, Ks > 0 (Ns finite)          → Glossy, albedo = Ks, exponent = Ns
+//   illum 2, 3 or 5, Kd ≈ 0, Ks > 0 (Ns finite)          → Glossy, albedo = Ks, α from exponent Ns
 //   anything else                                        → Diffuse, albedo = Kd
 // Albedos are clamped to [0, 1]. A material with both Kd and Ks that asks for reflection
 // (illum 3 or 5) becomes Diffuse with a warning (wavepath has no layered material);

@@ -11,13 +11,43 @@
 namespace wp {
 
 const char* to_string(MaterialKind k) {
-    switch (k) {
-    case MaterialKind::Diffuse: return "diffuse";
-    case MaterialKind::Mirror: return "mirror";
-    case MaterialKind::Glossy: return "glossy";
-    case MaterialKind::Glass: return "glass";
-    }
+#define WP_KIND_NAME_(KIND, Kind, name, specular, alpha, ior) \
+    if (k == MaterialKind::Kind) return #name;
+    WP_MATERIAL_KINDS(WP_KIND_NAME_)
+#undef WP_KIND_NAME_
     return "unknown";
+}
+
+std::optional<MaterialKind> material_kind_from_string(std::string_view s) {
+#define WP_KIND_PARSE_(KIND, Kind, name, specular, alpha, ior) \
+    if (s == #name) return MaterialKind::Kind;
+    WP_MATERIAL_KINDS(WP_KIND_PARSE_)
+#undef WP_KIND_PARSE_
+    return std::nullopt;
+}
+
+bool is_specular(MaterialKind k) {
+#define WP_KIND_SPECULAR_(KIND, Kind, name, specular, alpha, ior) \
+    if (k == MaterialKind::Kind) return specular;
+    WP_MATERIAL_KINDS(WP_KIND_SPECULAR_)
+#undef WP_KIND_SPECULAR_
+    return false;
+}
+
+bool uses_alpha(MaterialKind k) {
+#define WP_KIND_ALPHA_(KIND, Kind, name, specular, alpha, ior) \
+    if (k == MaterialKind::Kind) return alpha;
+    WP_MATERIAL_KINDS(WP_KIND_ALPHA_)
+#undef WP_KIND_ALPHA_
+    return false;
+}
+
+bool uses_ior(MaterialKind k) {
+#define WP_KIND_IOR_(KIND, Kind, name, specular, alpha, ior) \
+    if (k == MaterialKind::Kind) return ior;
+    WP_MATERIAL_KINDS(WP_KIND_IOR_)
+#undef WP_KIND_IOR_
+    return false;
 }
 
 Aabb Scene::bounds() const {
@@ -84,9 +114,7 @@ Camera camera_from_matrix(const glm::mat4& m, float vfov_deg, int width, int hei
 }
 
 Camera frame_bounds(const Aabb& b) {
-    Camera c;
-    c.width = 800;
-    c.height = 600;
+    Camera c;  // limits::kDefaultWidth x kDefaultHeight
     c.vfov_deg = 40.0f;
     const float radius = std::max(0.5f * glm::length(b.extent()), 1e-3f);
     const float distance = radius / std::sin(glm::radians(0.5f * c.vfov_deg));

@@ -5,32 +5,53 @@
 // scene/upload converts it into the device layout. Nothing here knows about OpenCL.
 #pragma once
 
+#include <cmath>
 #include <cstdint>
 #include <optional>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include <glm/glm.hpp>
 
 #include "bvh/aabb.h"
+#include "shared/material_kinds.h"
+#include "util/limits.h"
 
 namespace wp {
 
+// One enumerator per line of kernels/shared/material_kinds.h, same numbering as the device.
 enum class MaterialKind : std::uint32_t {
-    Diffuse = 0,  // Lambertian, albedo
-    Mirror = 1,   // perfect specular reflection, tinted by albedo
-    Glossy = 2,   // the original "weighted" lobe around the mirror direction (Phong exponent)
-    Glass = 3,    // smooth dielectric: exact Fresnel reflection and refraction, tinted by albedo
+#define WP_KIND_ENUM_(KIND, Kind, name, specular, alpha, ior) Kind = WP_MATERIAL_##KIND,
+    WP_MATERIAL_KINDS(WP_KIND_ENUM_)
+#undef WP_KIND_ENUM_
 };
+constexpr int kMaterialKindCount = WP_MATERIAL_KIND_COUNT;
 
+// The kind's name in scene files and reports ("diffuse", ...); "unknown" out of range.
 const char* to_string(MaterialKind k);
+// The kind named `name` (as to_string), if any.
+std::optional<MaterialKind> material_kind_from_string(std::string_view name);
+// The columns of material_kinds.h: Dirac lobes only; reads Material::alpha; reads ::ior.
+bool is_specular(MaterialKind k);
+bool uses_alpha(MaterialKind k);
+bool uses_ior(MaterialKind k);
 
+// GGX roughness α of a Phong exponent e >= 0 given by a scene (OBJ Ns, JSON "exponent",
+// the built-in scenes): α = sqrt(2 / (e + 2)) (Walter et al. 2007, section 5.2), in float
+// exactly as the device computed it before materials stored α (so such scenes render the
+// same bits). The one host conversion; the device's inverse is materials/glossy.h.
+inline float phong_exponent_to_alpha(float e) { return std::sqrt(2.0f / (e + 2.0f)); }
+
+// A material as the user gave it; scene/upload turns it into MaterialData, keeping only
+// the parameters its kind reads (material_kinds.h).
 struct Material {
     std::string name;
     MaterialKind kind = MaterialKind::Diffuse;
     glm::vec3 albedo{0.8f};    // reflectance in [0, 1] per channel
     glm::vec3 emission{0.0f};  // emitted radiance (W sr^-1 m^-2), front side only
-    float exponent = 100.0f;   // glossy lobe sharpness (Phong exponent), Glossy only
+    // GGX roughness α in (0, 1] (kinds with ALPHA: glossy); default: Phong exponent 100.
+    float alpha = phong_exponent_to_alpha(100.0f);
     float ior = 1.5f;          // index of refraction inside / outside (front side), Glass only
     bool emissive() const { return emission.x > 0.0f || emission.y > 0.0f || emission.z > 0.0f; }
 };
@@ -40,8 +61,8 @@ struct Camera {
     glm::vec3 target{0.0f};
     glm::vec3 up{0.0f, 1.0f, 0.0f};
     float vfov_deg = 40.0f;  // vertical field of view
-    int width = 800;
-    int height = 600;
+    int width = limits::kDefaultWidth;
+    int height = limits::kDefaultHeight;
 };
 
 // Render settings a scene file may carry (JSON "render", Mitsuba integrator/sampler);

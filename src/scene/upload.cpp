@@ -33,10 +33,12 @@ SceneUpload upload_scene(const Scene& scene) {
     }
     for (const Material& m : scene.materials) {
         MaterialData d{};
-        d.albedo = row(m.albedo, m.kind == MaterialKind::Glossy ? m.exponent : 0.0f);
+        // Parameters the kind does not read (material_kinds.h) stay 0.
+        d.albedo = row(m.albedo);
         d.emission = row(m.emission);
         d.kind = static_cast<int>(m.kind);
-        d.ior = m.kind == MaterialKind::Glass ? m.ior : 0.0f;
+        d.ior = uses_ior(m.kind) ? m.ior : 0.0f;
+        d.alpha = uses_alpha(m.kind) ? m.alpha : 0.0f;
         up.materials.push_back(d);
     }
     up.background = row(scene.background);

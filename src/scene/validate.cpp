@@ -53,9 +53,9 @@ void validate_scene(const Scene& scene) {
             fail("scene '{}': material {} ('{}') has emission ({}, {}, {}), which must be finite "
                  "and >= 0",
                  name, i, m.name, e.x, e.y, e.z);
-        if (!std::isfinite(m.exponent) || m.exponent < 0.0f)
-            fail("scene '{}': material {} ('{}') has exponent {}, which must be finite and >= 0",
-                 name, i, m.name, m.exponent);
+        if (uses_alpha(m.kind) && !(m.alpha > 0.0f && m.alpha <= 1.0f))
+            fail("scene '{}': material {} ('{}') has roughness alpha {}, which must be in (0, 1]",
+                 name, i, m.name, m.alpha);
     }
 
     // Camera: a film, a direction, a field of view

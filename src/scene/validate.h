@@ -4,7 +4,7 @@
 // too. It throws wp::Error naming the scene and the first problem found: a vertex index
 // out of range, a non-finite position, a material id out of range or a missing one, no
 // triangles at all, an invalid material (albedo outside [0, 1], negative or non-finite
-// emission, negative exponent) or an unusable camera. Degenerate (zero-area) triangles are
+// emission, a roughness α outside (0, 1] for kinds that read it) or an unusable camera. Degenerate (zero-area) triangles are
 // allowed: real scenes have them and the traversal must cope.
 #pragma once
 
