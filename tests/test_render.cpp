@@ -25,8 +25,9 @@ struct Rendered {
 Rendered render_scene(const Scene& scene, int w, int h, int spp, int depth, std::uint32_t seed,
                       render::Traversal traversal = render::Traversal::Stackless,
                       render::Sampling sampling = render::Sampling::Mis, int rr_depth = 3,
-                      bool sobol = true) {
+                      bool sobol = true, std::size_t pool = 0) {
     render::RenderSettings s;
+    s.pool = pool;
     s.estimator.sobol = sobol;
     s.estimator.sampling = sampling;
     s.estimator.rr_depth = rr_depth;
@@ -166,4 +167,63 @@ TEST_CASE("render: kernel options follow the scene's materials", "[render]") {
     box.estimator.sampling = render::Sampling::Mis;
     box.emission = false;
     CHECK(box.options().find("-D WP_HAVE_NEE=0") != std::string::npos);
+}
+
+// The path pool cuts the samples into waves of its capacity: several passes of the image,
+// one pass, or parts of one; the film must hold the same bits whatever the cut (each
+// sample's random numbers depend only on its key, and accumulate adds a pixel's samples in
+// sample order).
+TEST_CASE("render: the same image, bit for bit, for every path pool size", "[render][pool]") {
+    Scene scene = make_cornell_box(2000);
+    const int w = 24, h = 18, spp = 7, depth = 6;  // roulette from bounce 3 ends some paths
+    Rendered ref = render_scene(scene, w, h, spp, depth, 3, render::Traversal::Stackless,
+                                render::Sampling::Mis, 3, true, 0);
+    for (std::size_t pool : {std::size_t(37), std::size_t(w * h), std::size_t(3 * w * h + 5),
+                             std::size_t(64 * w * h)}) {
+        INFO("pool of " << pool << " paths");
+        Rendered r = render_scene(scene, w, h, spp, depth, 3, render::Traversal::Stackless,
+                                  render::Sampling::Mis, 3, true, pool);
+        REQUIRE(r.film.size() == ref.film.size());
+        CHECK(std::memcmp(r.film.data(), ref.film.data(), r.film.size() * sizeof(FilmPixel)) == 0);
+        CHECK(r.rays == ref.rays);
+    }
+}
+
+// With no depth limit to speak of, Russian roulette ends every path, the pool's wave ends
+// when its queue is empty, and the closed furnace converges to the full geometric series
+// Le / (1 - rho). No launch runs for a bounce after the queues are empty.
+TEST_CASE("render: a depth of 10^6 ends when the paths end (furnace Le / (1 - rho))",
+          "[render][pool][stat]") {
+    const float le = 0.5f, rho = 0.6f;
+    Scene scene = make_closed_box_furnace(le, rho);
+    render::RenderSettings s;
+    s.width = 32;
+    s.height = 24;
+    s.depth = 1000000;
+    s.seed = 21;
+    s.estimator.sobol = false;  // independent samples: pixels are independent estimates
+    render::Wavefront wf(test::device(), scene, s);
+    render::LoopOptions lo;
+    lo.spp = 16;
+    render::render_frames(wf, lo, nullptr);
+    Image img = wf.resolve();
+    const double expected = le / (1.0 - rho);
+    double sum = 0, sum2 = 0;
+    const std::size_t m = img.rgb.size() / 3;
+    for (std::size_t i = 0; i < m; ++i) {
+        double v = img.rgb[3 * i];
+        sum += v;
+        sum2 += v * v;
+    }
+    double mean = sum / m, se = std::sqrt((sum2 / m - mean * mean) / (m - 1));
+    INFO("mean " << mean << " +- " << se << ", expected " << expected);
+    CHECK(std::abs(mean - expected) < 4 * se);
+    for (int c : wf.counters()) CHECK(c == 0);
+    int launches = 0;
+    for (const auto& t : wf.profiler().totals())
+        if (t.name == "intersect.closest") launches = t.launches;
+    INFO(launches << " intersect launches for " << wf.profiler().wave_count() << " waves");
+    // Paths of throughput <= 0.6 per bounce after roulette: a few hundred bounces at most.
+    CHECK(launches > 16);
+    CHECK(launches < 2000);
 }

@@ -1,0 +1,95 @@
+// test_shadow.cpp — the shadow stage and the queue upkeep, each alone on the test device.
+//
+// shadow_trace against a brute-force any-hit oracle over every triangle (support.h), and
+// queue_reset against the counts it is given.
+#include <catch2/catch.hpp>
+
+#include <algorithm>
+#include <numeric>
+#include <vector>
+
+#include "bvh/build.h"
+#include "bvh/device_bvh.h"
+#include "bvh/flatten.h"
+#include "render/frame_state.h"
+#include "render/stages/shadow.h"
+#include "scene/builtin.h"
+#include "support.h"
+
+using namespace wp;
+
+TEST_CASE("shadow: unoccluded segments add their contribution to their sample, occluded ones "
+          "nothing", "[kernel][shadow]") {
+    auto& dev = test::device();
+    Scene scene = make_cornell_box(200);
+    auto flat = bvh::flatten(bvh::build(bvh::triangle_boxes(scene.positions, scene.triangles)),
+                             scene.positions, scene.triangles);
+    auto bvh = bvh::DeviceBvh::upload(dev, flat);
+
+    // Segments between random points of the box (hits need 0 < t < 1), each for its own
+    // sample item in a shuffled order, with random contributions.
+    const int n = 20000, items = n + 500;
+    test::Rng rng(5);
+    std::vector<Ray> rays(n);
+    std::vector<int> item(items);
+    std::iota(item.begin(), item.end(), 0);
+    for (int i = items - 1; i > 0; --i) std::swap(item[i], item[rng.next() % (i + 1)]);
+    item.resize(n);
+    std::vector<float4> contrib(n), radiance(items);
+    for (int i = 0; i < n; ++i) {
+        glm::vec3 a(rng.uniform(-1, 1), rng.uniform(0, 2), rng.uniform(-1, 1));
+        glm::vec3 b(rng.uniform(-1, 1), rng.uniform(0, 2), rng.uniform(-1, 1));
+        rays[i] = test::make_ray(a, b - a, 0.0f, 1.0f);
+        contrib[i] = {rng.uniform(), rng.uniform(), rng.uniform(), 0};
+    }
+    for (auto& r : radiance) r = {rng.uniform(), rng.uniform(), rng.uniform(), 0};
+
+    render::ShadowQueue q;
+    q.rays = ocl::Array<Ray>::upload(dev, rays, "shadow rays");
+    q.items = ocl::Array<int>::upload(dev, item, "shadow items");
+    q.contrib = ocl::Array<float4>::upload(dev, contrib, "shadow contrib");
+    q.count = ocl::Array<int>::upload(dev, {n}, "shadow count");
+    auto rad = ocl::Array<float4>::upload(dev, radiance, "radiance");
+    auto total = ocl::Array<cl_ulong>::upload(dev, {cl_ulong(1000)}, "ray total");
+    render::ShadowStage stage(dev);
+    // Launched past the queue length: the stage reads the length on the device.
+    stage.enqueue(n + 100, q, bvh, rad, total);
+    auto out = rad.read(dev);
+    CHECK(total.read(dev)[0] == 1000u + n);
+
+    auto oracle = test::brute_force(scene.positions, scene.triangles, rays, /*any_hit=*/true);
+    int occluded = 0;
+    std::vector<float4> expect = radiance;
+    for (int i = 0; i < n; ++i) {
+        if (oracle[i].prim >= 0) {
+            ++occluded;
+            continue;
+        }
+        float4& e = expect[item[i]];
+        e = e + contrib[i];
+    }
+    INFO(occluded << " of " << n << " segments occluded");
+    CHECK(occluded > n / 10);        // both cases are exercised
+    CHECK(occluded < n - n / 10);
+    int wrong = 0;
+    for (int k = 0; k < items; ++k)
+        wrong += out[k].x != expect[k].x || out[k].y != expect[k].y || out[k].z != expect[k].z;
+    CHECK(wrong == 0);
+}
+
+TEST_CASE("queue upkeep: reset counts the bounce's rays and empties the next queues",
+          "[kernel][queue]") {
+    auto& dev = test::device();
+    render::QueueUpkeep up(dev, nullptr);
+    auto in = ocl::Array<int>::upload(dev, {12345}, "count in");
+    auto out = ocl::Array<int>::upload(dev, {77}, "count out");
+    auto shadow = ocl::Array<int>::upload(dev, {99}, "shadow count");
+    auto total = ocl::Array<cl_ulong>::upload(dev, {cl_ulong(1) << 33}, "ray total");
+    up.enqueue_reset(in, out, shadow, total);
+    up.enqueue_reset(in, out, shadow, total);
+    CHECK(in.read(dev)[0] == 12345);
+    CHECK(out.read(dev)[0] == 0);
+    CHECK(shadow.read(dev)[0] == 0);
+    // 64-bit: starts above 2^32.
+    CHECK(total.read(dev)[0] == (cl_ulong(1) << 33) + 2 * 12345u);
+}
