@@ -52,6 +52,13 @@ void add_config_options(CLI::App* c, ConfigArgs& a) {
                   "Russian roulette from this bounce on (survival min(1, max throughput "
                   "component), unbiased); -1 disables it. Paths still end at --depth")
         ->capture_default_str();
+    c->add_option("--pool", a.pool,
+                  "Paths in flight: the samples run in waves of this many (several passes of a "
+                  "small image, or parts of one pass of a large one); the image is the same "
+                  "bit for bit whatever the size. 0 (the default): min(2^20, 16 passes of the "
+                  "image), at most a quarter of the device's memory (212 bytes a path with "
+                  "light sampling, 160 without)")
+        ->capture_default_str();
 }
 
 render::RenderSettings make_settings(const ConfigArgs& a, const Scene& scene) {
@@ -88,6 +95,7 @@ render::RenderSettings make_settings(const ConfigArgs& a, const Scene& scene) {
     if (a.sampler != "random" && a.sampler != "sobol")
         fail("--sampler '{}': expected random or sobol", a.sampler);
     s.estimator.sobol = a.sampler == "sobol";
+    s.pool = a.pool;
     return s;
 }
 

@@ -23,14 +23,17 @@ struct ConfigArgs {
     std::string size;                    // "WxH"; empty: the scene camera's size
     std::string device;
     std::string traversal = "stackless";  // stackless | stack
-    std::string sampling = "mis";         // uniform | cosine | nee | mis
-    std::string glossy = "ggx";           // phong | ggx
-    std::string sampler = "sobol";        // sobol | random
-    int rr_depth = limits::kDefaultRrDepth;  // Russian roulette from this bounce on; -1 off
+    // The estimator's defaults are render::Estimator's (the one definition).
+    std::string sampling = render::sampling_name(render::Estimator{}.sampling);  // uniform | cosine | nee | mis
+    std::string glossy = render::glossy_name(render::Estimator{}.glossy);        // phong | ggx
+    std::string sampler = render::Estimator{}.sobol ? "sobol" : "random";       // sobol | random
+    int rr_depth = render::Estimator{}.rr_depth;  // Russian roulette from this bounce on; -1 off
+    std::size_t pool = 0;                 // paths in flight; 0: automatic
     bool depth_given = false;             // --depth was on the command line (beats the scene's)
 };
 
-// Registers --depth, --size, --device, --traversal, --sampling, --glossy, --rr-depth on `c`.
+// Registers --depth, --size, --device, --traversal, --sampling, --glossy, --sampler,
+// --rr-depth and --pool on `c`.
 void add_config_options(CLI::App* c, ConfigArgs& a);
 
 // Validates the options and fills the settings (size from the scene when not given).
