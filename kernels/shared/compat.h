@@ -227,6 +227,10 @@ WP_HD float dot(float3 a, float3 b) { return a.x * b.x + a.y * b.y + a.z * b.z; 
 WP_HD float3 cross(float3 a, float3 b) {
     return make_float3(a.y * b.z - a.z * b.y, a.z * b.x - a.x * b.z, a.x * b.y - a.y * b.x);
 }
+// length/normalize: the plain formulas. OpenCL's builtins rescale when |v|^2 overflows or
+// underflows; these do not (|v| must stay below 1.8e19): the shared code applies them to
+// directions and edges of scenes far inside that range. Elsewhere they agree bit for bit
+// with PoCL's (tests/test_compat.cpp).
 WP_HD float length(float3 a) { return sqrt(dot(a, a)); }
 WP_HD float3 normalize(float3 a) { return a * (1.0f / length(a)); }
 WP_HD float3 copysign(float3 a, float3 b) {
