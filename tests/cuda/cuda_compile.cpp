@@ -11,7 +11,8 @@
 //   2. CUDA: the same assembled text through nvcc -x cu --ptx --fmad=false -std=c++17 with
 //      the same -D options; every OpenCL entry point must be a `.entry NAME(` of the PTX,
 //      and the PTX must have no other entry;
-//   3. host C++: the same text through <c++> -x c++ -std=c++20 -fsyntax-only.
+//   3. host C++: the same text through <c++> -x c++ -std=c++17 -fsyntax-only (C++17, as for
+//      nvcc: C++20 would take OpenCL's broadcast (float4)(x) for {x, 0, 0, 0}).
 // Layout: a CUDA translation unit stores every WP_LAYOUT_FIELDS value (types.h) in a
 // __device__ array; the numbers read back from the PTX initializer must equal the host's.
 // (The OpenCL side of the same list is compared by tests/test_layout.cpp.)
@@ -180,7 +181,9 @@ int main(int argc, char** argv) {
                             quote(c.stem.string() + ".cu") + " -o " + quote(c.stem.string() + ".ptx") +
                             " > " + quote(c.stem.string() + ".nvcc.log") + " 2>&1"});
             c.cxx_job = jobs.size();
-            jobs.push_back({quote(cxx) + " -x c++ -std=c++20 -fsyntax-only -ffp-contract=off " + c.options +
+            // C++17 as for nvcc: C++20's parenthesised aggregate init would accept OpenCL's
+            // broadcast (float4)(x) as {x, 0, 0, 0}, silently.
+            jobs.push_back({quote(cxx) + " -x c++ -std=c++17 -fsyntax-only -ffp-contract=off " + c.options +
                             " " + quote(c.stem.string() + ".cpp") + " > " +
                             quote(c.stem.string() + ".cxx.log") + " 2>&1"});
             cases.push_back(c);
