@@ -136,8 +136,9 @@ int main(int argc, char** argv) {
     std::string nvcc = argv[1], cxx = argv[2];
     fs::path kernels = argv[3], work = argv[4];
     if (nvcc.empty() || nvcc.find("NOTFOUND") != std::string::npos || !fs::exists(nvcc)) {
-        std::cout << "SKIP: nvcc not found (searched PATH and /usr/local/cuda/bin at configure "
-                     "time; set WP_NVCC or CUDAToolkit_ROOT and re-run cmake)\n";
+        std::cout << "SKIP: nvcc not found (cmake searched PATH, $CUDA_PATH, $CUDA_HOME and "
+                     "/usr/local/cuda/bin; install the CUDA toolkit or pass -DWP_NVCC=/path/to/nvcc): "
+                     "the kernels were not compiled for CUDA\n";
         return 77;
     }
     // assemble_source and Program::build read the kernel files from here, not from the
