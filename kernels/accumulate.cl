@@ -13,8 +13,8 @@
 //   plain renders neither square nor store the second buffer.
 #include "shared/film.h"
 
-__kernel void accumulate_film(__global const float4* radiance, int pixel_count,
-                              __global FilmPixel* film, __global int* counters) {
+WP_KERNEL void accumulate_film(WP_GLOBAL const float4* radiance, int pixel_count,
+                              WP_GLOBAL FilmPixel* film, WP_GLOBAL int* counters) {
     int p = wp_global_id();
     if (p >= pixel_count) return;
     float3 x = wp_xyz(radiance[p]);
@@ -22,15 +22,15 @@ __kernel void accumulate_film(__global const float4* radiance, int pixel_count,
     if (wp_inject_here(WP_INJECT_ACCUMULATE, p)) x.x = wp_quiet_nan();
 #endif
     if (!wp_all_finite3(x)) {
-        atomic_inc(&counters[WP_COUNTER_ACCUMULATE_NONFINITE]);
+        wp_atomic_inc(&counters[WP_COUNTER_ACCUMULATE_NONFINITE]);
         return;
     }
     film[p] = wp_film_add(film[p], x);
 }
 
-__kernel void accumulate_film_variance(__global const float4* radiance, int pixel_count,
-                                       __global FilmPixel* film, __global int* counters,
-                                       __global FilmPixel* film_sq) {
+WP_KERNEL void accumulate_film_variance(WP_GLOBAL const float4* radiance, int pixel_count,
+                                       WP_GLOBAL FilmPixel* film, WP_GLOBAL int* counters,
+                                       WP_GLOBAL FilmPixel* film_sq) {
     int p = wp_global_id();
     if (p >= pixel_count) return;
     float3 x = wp_xyz(radiance[p]);
@@ -38,7 +38,7 @@ __kernel void accumulate_film_variance(__global const float4* radiance, int pixe
     if (wp_inject_here(WP_INJECT_ACCUMULATE, p)) x.x = wp_quiet_nan();
 #endif
     if (!wp_all_finite3(x)) {
-        atomic_inc(&counters[WP_COUNTER_ACCUMULATE_NONFINITE]);
+        wp_atomic_inc(&counters[WP_COUNTER_ACCUMULATE_NONFINITE]);
         return;
     }
     film[p] = wp_film_add(film[p], x);

@@ -11,10 +11,10 @@
 #include "shared/film.h"
 #include "shared/rng.h"
 
-__kernel void generate_camera(CameraData camera, uint seed, uint sample,
-                              __global Ray* rays, __global PathState* paths,
-                              __global float4* radiance, __global int* queue_count,
-                              __global int* counters) {
+WP_KERNEL void generate_camera(CameraData camera, uint seed, uint sample,
+                              WP_GLOBAL Ray* rays, WP_GLOBAL PathState* paths,
+                              WP_GLOBAL float4* radiance, WP_GLOBAL int* queue_count,
+                              WP_GLOBAL int* counters) {
     int p = wp_global_id();
     int n = camera.width * camera.height;
     if (p >= n) return;
@@ -33,7 +33,7 @@ __kernel void generate_camera(CameraData camera, uint seed, uint sample,
     // A NaN/Inf direction (degenerate camera) becomes a ray that misses everything.
     float tmax = FLT_MAX;
     if (!wp_all_finite3(d)) {
-        atomic_inc(&counters[WP_COUNTER_GENERATE_NONFINITE]);
+        wp_atomic_inc(&counters[WP_COUNTER_GENERATE_NONFINITE]);
         d = make_float3(0.0f, 0.0f, 1.0f);
         tmax = 0.0f;
     }

@@ -42,27 +42,27 @@
 
 // The light arrays of shade_surface, bundled for the helpers.
 typedef struct LightTable {
-    __global const float* cdf;
-    __global const int* prims;
-    __global const float* pdf_area;
+    WP_GLOBAL const float* cdf;
+    WP_GLOBAL const int* prims;
+    WP_GLOBAL const float* pdf_area;
     int count;
 } LightTable;
 
 // Adds v to radiance[pixel] when finite; counts it otherwise.
-static void wp_add_radiance(__global float4* radiance, int pixel, float3 v, __global int* counters) {
+WP_FN void wp_add_radiance(WP_GLOBAL float4* radiance, int pixel, float3 v, WP_GLOBAL int* counters) {
     if (wp_all_finite3(v))
         radiance[pixel] += wp_float4(v, 0.0f);
     else
-        atomic_inc(&counters[WP_COUNTER_SHADE_NONFINITE]);
+        wp_atomic_inc(&counters[WP_COUNTER_SHADE_NONFINITE]);
 }
 
 // Shades one path. Returns 1 and fills *next_ray / *next_path when the path continues, and
 // sets *shadow = 1 with *shadow_ray when it pushes a shadow ray.
-static int wp_shade_path(Ray ray, PathState path, Hit hit, __global const Triangle* tris,
-                         __global const int* material_ids, __global const MaterialData* materials,
+WP_FN int wp_shade_path(Ray ray, PathState path, Hit hit, WP_GLOBAL const Triangle* tris,
+                         WP_GLOBAL const int* material_ids, WP_GLOBAL const MaterialData* materials,
                          float4 background, uint seed, uint sample, int bounce, int max_depth,
-                         LightTable lights, __global float4* radiance,
-                         __global float4* shadow_contrib, __global int* counters,
+                         LightTable lights, WP_GLOBAL float4* radiance,
+                         WP_GLOBAL float4* shadow_contrib, WP_GLOBAL int* counters,
                          Ray* next_ray, PathState* next_path, int* shadow, Ray* shadow_ray) {
     float3 beta = wp_xyz(path.throughput);
     float3 d = wp_xyz(ray.dir);
@@ -72,7 +72,7 @@ static int wp_shade_path(Ray ray, PathState path, Hit hit, __global const Triang
 #endif
     // Entry guard: a path whose throughput is not finite ends here, counted.
     if (!wp_all_finite3(beta)) {
-        atomic_inc(&counters[WP_COUNTER_SHADE_NONFINITE]);
+        wp_atomic_inc(&counters[WP_COUNTER_SHADE_NONFINITE]);
         return 0;
     }
 
@@ -148,7 +148,7 @@ static int wp_shade_path(Ray ray, PathState path, Hit hit, __global const Triang
             float3 le = wp_xyz(materials[material_ids[lp]].emission);
             float3 c = beta * fcos * le * (w / p_light);
             if (!wp_all_finite3(c)) {
-                atomic_inc(&counters[WP_COUNTER_SHADE_NONFINITE]);
+                wp_atomic_inc(&counters[WP_COUNTER_SHADE_NONFINITE]);
             } else if (wp_max_component(c) > 0.0f) {
                 // Segment from the offset origin to the light point offset to its front:
                 // hits need 0 < t < 1.
@@ -171,7 +171,7 @@ static int wp_shade_path(Ray ray, PathState path, Hit hit, __global const Triang
     if (!wp_bsdf_sample_pdf(m, dn, ns, front, u, &wo, &weight, &pdf, &specular)) return 0;
     beta = beta * weight;
     if (!wp_all_finite3(beta) || !wp_all_finite3(wo)) {
-        atomic_inc(&counters[WP_COUNTER_SHADE_NONFINITE]);
+        wp_atomic_inc(&counters[WP_COUNTER_SHADE_NONFINITE]);
         return 0;
     }
     if (!(wp_max_component(beta) > 0.0f)) return 0;  // black: nothing more to gather
@@ -203,26 +203,26 @@ static int wp_shade_path(Ray ray, PathState path, Hit hit, __global const Triang
 // one work-item reserves the group's range with a single global atomic_add (so 1 global
 // atomic per 64 paths instead of one per path), for each queue. Every work-item reaches
 // the barriers.
-__kernel void shade_surface(__global const Ray* rays_in, __global const PathState* paths_in,
-                            __global const Hit* hits, __global const int* count_in,
-                            __global const Triangle* tris, __global const int* material_ids,
-                            __global const MaterialData* materials, float4 background,
+WP_KERNEL void shade_surface(WP_GLOBAL const Ray* rays_in, WP_GLOBAL const PathState* paths_in,
+                            WP_GLOBAL const Hit* hits, WP_GLOBAL const int* count_in,
+                            WP_GLOBAL const Triangle* tris, WP_GLOBAL const int* material_ids,
+                            WP_GLOBAL const MaterialData* materials, float4 background,
                             uint seed, uint sample, int bounce, int max_depth,
-                            __global float4* radiance, __global Ray* rays_out,
-                            __global PathState* paths_out, __global int* count_out,
-                            __global int* counters, __global const float* light_cdf,
-                            __global const int* light_prims,
-                            __global const float* light_pdf_area, int light_count,
-                            __global Ray* shadow_rays, __global int* shadow_pixels,
-                            __global int* shadow_count, __global float4* shadow_contrib) {
-    __local int group_count, group_base, shadow_group_count, shadow_group_base;
+                            WP_GLOBAL float4* radiance, WP_GLOBAL Ray* rays_out,
+                            WP_GLOBAL PathState* paths_out, WP_GLOBAL int* count_out,
+                            WP_GLOBAL int* counters, WP_GLOBAL const float* light_cdf,
+                            WP_GLOBAL const int* light_prims,
+                            WP_GLOBAL const float* light_pdf_area, int light_count,
+                            WP_GLOBAL Ray* shadow_rays, WP_GLOBAL int* shadow_pixels,
+                            WP_GLOBAL int* shadow_count, WP_GLOBAL float4* shadow_contrib) {
+    WP_LOCAL int group_count, group_base, shadow_group_count, shadow_group_base;
     int i = wp_global_id();
-    int lid = (int)get_local_id(0);
+    int lid = wp_local_id();
     if (lid == 0) {
         group_count = 0;
         shadow_group_count = 0;
     }
-    barrier(CLK_LOCAL_MEM_FENCE);
+    wp_barrier();
 
     LightTable lights;
     lights.cdf = light_cdf;
@@ -240,15 +240,15 @@ __kernel void shade_surface(__global const Ray* rays_in, __global const PathStat
                              shadow_contrib, counters, &next_ray, &next_path, &shadow,
                              &shadow_ray);
     }
-    int local_slot = push ? atomic_inc(&group_count) : 0;
-    int shadow_local_slot = shadow ? atomic_inc(&shadow_group_count) : 0;
-    barrier(CLK_LOCAL_MEM_FENCE);
+    int local_slot = push ? wp_atomic_inc(&group_count) : 0;
+    int shadow_local_slot = shadow ? wp_atomic_inc(&shadow_group_count) : 0;
+    wp_barrier();
     if (lid == 0) {
-        group_base = group_count > 0 ? atomic_add(count_out, group_count) : 0;
+        group_base = group_count > 0 ? wp_atomic_add(count_out, group_count) : 0;
         shadow_group_base =
-            shadow_group_count > 0 ? atomic_add(shadow_count, shadow_group_count) : 0;
+            shadow_group_count > 0 ? wp_atomic_add(shadow_count, shadow_group_count) : 0;
     }
-    barrier(CLK_LOCAL_MEM_FENCE);
+    wp_barrier();
     if (push) {
         int slot = group_base + local_slot;
         rays_out[slot] = next_ray;
@@ -266,9 +266,9 @@ __kernel void shade_surface(__global const Ray* rays_in, __global const PathStat
 // writes  radiance[pixel] += shadow_contrib[pixel] when the shadow ray was unoccluded
 // One shadow ray per pixel per bounce: indexed by pixel, so the order of the queue does
 // not matter.
-__kernel void shadow_resolve(__global const Hit* hits, __global const int* shadow_pixels,
-                             __global const int* shadow_count,
-                             __global const float4* shadow_contrib, __global float4* radiance) {
+WP_KERNEL void shadow_resolve(WP_GLOBAL const Hit* hits, WP_GLOBAL const int* shadow_pixels,
+                             WP_GLOBAL const int* shadow_count,
+                             WP_GLOBAL const float4* shadow_contrib, WP_GLOBAL float4* radiance) {
     int i = wp_global_id();
     if (i >= shadow_count[0]) return;
     if (hits[i].prim >= 0) return;  // occluded
@@ -281,9 +281,9 @@ __kernel void shadow_resolve(__global const Hit* hits, __global const int* shado
 //         after the previous shade)
 // writes  ray_total[0] += both (64-bit total of rays traced, for Mrays/s), count_out[0] = 0
 //         and shadow_count[0] = 0 (empty next queues)
-__kernel void queue_reset(__global const int* count_in, __global int* count_out,
-                          __global ulong* ray_total, __global int* shadow_count) {
-    if (get_global_id(0) != 0) return;
+WP_KERNEL void queue_reset(WP_GLOBAL const int* count_in, WP_GLOBAL int* count_out,
+                          WP_GLOBAL ulong* ray_total, WP_GLOBAL int* shadow_count) {
+    if (wp_global_id() != 0) return;
     ray_total[0] += (ulong)count_in[0] + (ulong)shadow_count[0];
     count_out[0] = 0;
     shadow_count[0] = 0;
