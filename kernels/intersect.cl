@@ -22,20 +22,20 @@
 
 // One batch entry point and one wavefront entry point per traversal function.
 #define WP_INTERSECT_ENTRIES(name, trace)                                                   \
-    __kernel void name##_batch(__global const Ray* rays, int count,                         \
-                               __global const BvhNode* nodes, __global const BvhLinks* links, \
-                               __global const Triangle* tris, __global const int* prim_ids,   \
-                               __global Hit* hits, __global TraceStats* stats) {              \
+    WP_KERNEL void name##_batch(WP_GLOBAL const Ray* rays, int count,                         \
+                               WP_GLOBAL const BvhNode* nodes, WP_GLOBAL const BvhLinks* links, \
+                               WP_GLOBAL const Triangle* tris, WP_GLOBAL const int* prim_ids,   \
+                               WP_GLOBAL Hit* hits, WP_GLOBAL TraceStats* stats) {              \
         int i = wp_global_id();                                                             \
         if (i >= count) return;                                                             \
         TraceStats st = {0, 0};                                                             \
         hits[i] = trace(rays[i], nodes, links, tris, prim_ids, &st);                        \
         WP_STORE_STATS(i, st);                                                              \
     }                                                                                       \
-    __kernel void name(__global const Ray* rays, __global const int* queue_count,           \
-                       __global const BvhNode* nodes, __global const BvhLinks* links,       \
-                       __global const Triangle* tris, __global const int* prim_ids,         \
-                       __global Hit* hits) {                                                \
+    WP_KERNEL void name(WP_GLOBAL const Ray* rays, WP_GLOBAL const int* queue_count,           \
+                       WP_GLOBAL const BvhNode* nodes, WP_GLOBAL const BvhLinks* links,       \
+                       WP_GLOBAL const Triangle* tris, WP_GLOBAL const int* prim_ids,         \
+                       WP_GLOBAL Hit* hits) {                                                \
         int i = wp_global_id();                                                             \
         if (i >= queue_count[0]) return;                                                    \
         TraceStats st = {0, 0};                                                             \

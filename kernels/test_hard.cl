@@ -25,7 +25,7 @@
 #define WP_HARD_SHEET 1
 
 // A counter-based hash (splitmix-like, 32-bit) for reproducible per-item numbers.
-static inline uint wp_hard_hash(uint x) {
+WP_FN uint wp_hard_hash(uint x) {
     x ^= x >> 16;
     x *= 0x7feb352du;
     x ^= x >> 15;
@@ -35,13 +35,13 @@ static inline uint wp_hard_hash(uint x) {
 }
 
 // Uniform in [0, 1) from 24 bits.
-static inline float wp_hard_u01(uint* state) {
+WP_FN float wp_hard_u01(uint* state) {
     *state = wp_hard_hash(*state + 0x9e3779b9u);
     return (float)(*state >> 8) * 0x1p-24f;
 }
 
 // Uniform in the unit ball (rejection).
-static inline float3 wp_hard_ball(uint* state) {
+WP_FN float3 wp_hard_ball(uint* state) {
     for (int k = 0; k < 64; ++k) {
         float3 p = make_float3(2.0f * wp_hard_u01(state) - 1.0f, 2.0f * wp_hard_u01(state) - 1.0f,
                                2.0f * wp_hard_u01(state) - 1.0f);
@@ -50,9 +50,9 @@ static inline float3 wp_hard_ball(uint* state) {
     return make_float3(0.0f, 0.0f, 0.0f);
 }
 
-__kernel void hard_edge_rays(__global const float4* segments, int n_seg, float cx, float cy, float cz, float inner,
+WP_KERNEL void hard_edge_rays(WP_GLOBAL const float4* segments, int n_seg, float cx, float cy, float cz, float inner,
                              float radius, float smin, float smax, int mode, uint seed,
-                             int first_seg, uint first_round, int count, __global Ray* rays) {
+                             int first_seg, uint first_round, int count, WP_GLOBAL Ray* rays) {
     int i = wp_global_id();
     if (i >= count) return;
     // Global ray number first_round * n_seg + first_seg + i (batches continue the
@@ -91,14 +91,14 @@ __kernel void hard_edge_rays(__global const float4* segments, int n_seg, float c
     rays[i] = ray;
 }
 
-__kernel void hard_count(__global const Hit* hits, int count, __global int* out) {
+WP_KERNEL void hard_count(WP_GLOBAL const Hit* hits, int count, WP_GLOBAL int* out) {
     int i = wp_global_id();
     if (i >= count) return;
     Hit h = hits[i];
     if (h.prim < 0) {
-        atomic_add(&out[0], 1);
+        wp_atomic_add(&out[0], 1);
         return;
     }
-    if (!isfinite(h.t)) atomic_add(&out[1], 1);
-    if (!(h.t > 0.0f)) atomic_add(&out[2], 1);
+    if (!isfinite(h.t)) wp_atomic_add(&out[1], 1);
+    if (!(h.t > 0.0f)) wp_atomic_add(&out[2], 1);
 }

@@ -6,8 +6,8 @@
 //   accumulations in one launch.
 #include "shared/film.h"
 
-__kernel void film_add_repeat(float4 value, int repeat, __global FilmPixel* film) {
-    if (get_global_id(0) != 0) return;
+WP_KERNEL void film_add_repeat(float4 value, int repeat, WP_GLOBAL FilmPixel* film) {
+    if (wp_global_id() != 0) return;
     FilmPixel f = film[0];
     float3 x = wp_xyz(value);
     for (int k = 0; k < repeat; ++k) f = wp_film_add(f, x);

@@ -10,8 +10,8 @@
 // reads   m, the arriving direction d and normal ns (xyz, unit), front (glass: from
 //         outside), seed
 // writes  out[i] = (wo, pdf) for i < n, or (0, 0, 0, -1) when the sample is absorbed
-__kernel void probe_bsdf_sample(MaterialData m, float4 d, float4 ns, int front, uint seed,
-                                int n, __global float4* out) {
+WP_KERNEL void probe_bsdf_sample(MaterialData m, float4 d, float4 ns, int front, uint seed,
+                                int n, WP_GLOBAL float4* out) {
     int i = wp_global_id();
     if (i >= n) return;
     float4 u = wp_rng4(seed, (uint)i, 0u, 0u, WP_RNG_BSDF);
@@ -28,10 +28,10 @@ __kernel void probe_bsdf_sample(MaterialData m, float4 d, float4 ns, int front, 
 // reads   tris (scene order), the light table (lights.h), seed
 // writes  light[i] = the chosen light index k, point[i] = (b1, b2, pdf_area, 0): the
 //         barycentrics of the point on triangle light_prims[k], for i < n
-__kernel void probe_light_sample(__global const float* light_cdf, __global const int* light_prims,
-                                 __global const float* light_pdf_area, int light_count,
-                                 uint seed, int n, __global int* light,
-                                 __global float4* point) {
+WP_KERNEL void probe_light_sample(WP_GLOBAL const float* light_cdf, WP_GLOBAL const int* light_prims,
+                                 WP_GLOBAL const float* light_pdf_area, int light_count,
+                                 uint seed, int n, WP_GLOBAL int* light,
+                                 WP_GLOBAL float4* point) {
     int i = wp_global_id();
     if (i >= n) return;
     float4 ul = wp_rng4(seed, (uint)i, 0u, 0u, WP_RNG_LIGHT);

@@ -6,8 +6,8 @@
 
 #define WP_PROBE_WRITE(expr) out[n++] = (int)(expr);
 
-__kernel void probe_layout(__global int* out) {
-    if (get_global_id(0) != 0) return;
+WP_KERNEL void probe_layout(WP_GLOBAL int* out) {
+    if (wp_global_id() != 0) return;
     int n = 0;
     WP_LAYOUT_FIELDS(WP_PROBE_WRITE)
     out[n] = -1;  // terminator: tells the host how many entries were written

@@ -16,14 +16,8 @@
 
 WP_NAMESPACE_BEGIN
 
-#if defined(WP_OPENCL)
-#define WP_SOBOL_TABLE __constant
-#else
-#define WP_SOBOL_TABLE static const
-#endif
-
 // Column j of generator matrix d, as a 32-bit word (bit 31 = first digit).
-WP_SOBOL_TABLE uint wp_sobol_directions[4][32] = {
+WP_CONSTANT_TABLE uint wp_sobol_directions[4][32] = {
     {0x80000000u, 0x40000000u, 0x20000000u, 0x10000000u, 0x08000000u, 0x04000000u, 0x02000000u, 0x01000000u,
      0x00800000u, 0x00400000u, 0x00200000u, 0x00100000u, 0x00080000u, 0x00040000u, 0x00020000u, 0x00010000u,
      0x00008000u, 0x00004000u, 0x00002000u, 0x00001000u, 0x00000800u, 0x00000400u, 0x00000200u, 0x00000100u,
