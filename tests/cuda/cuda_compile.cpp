@@ -36,6 +36,7 @@
 
 #include "cl/device.h"
 #include "cl/program.h"
+#include "render/kernel_config.h"
 #include "shared/types.h"
 
 namespace fs = std::filesystem;
@@ -43,11 +44,9 @@ using namespace wp;
 
 namespace {
 
-// The configuration `wavepath render` ships for the shade stage (render/KernelConfig).
-const char* const kShipped =
-    "-D WP_HAVE_DIFFUSE=1 -D WP_HAVE_MIRROR=1 -D WP_HAVE_GLOSSY=1 -D WP_HAVE_GLASS=1 "
-    "-D WP_HAVE_EMISSION=1 -D WP_SAMPLING=3 -D WP_GLOSSY_MODEL=1 -D WP_HAVE_NEE=1 "
-    "-D WP_RR_DEPTH=3 -D WP_SAMPLER=1";
+// The configuration `wavepath render` ships for the shade stage, every material kind on:
+// the renderer's own option string (render/kernel_config.h), not a copy of it.
+const std::string kShipped = render::KernelConfig{}.shade_options();
 
 std::string read_text(const fs::path& p) {
     std::ifstream in(p, std::ios::binary);
