@@ -1,4 +1,4 @@
-// queue.cl — queue upkeep of the path pool (render/path_pool.h).
+// queue.cl — queue upkeep of the path pool (render/frame_state.h).
 //
 // queue_reset — between intersect and shade of a bounce, one work-item.
 // reads   count_in[0] (rays traced by this bounce's intersect)

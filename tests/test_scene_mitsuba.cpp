@@ -26,6 +26,7 @@
 #include "scene/load.h"
 #include "scene/mitsuba_loader.h"
 #include "support.h"
+#include "util/limits.h"
 #include "util/error.h"
 #include "util/splitmix.h"
 #include "temp_dir.h"
@@ -532,11 +533,15 @@ TEST_CASE("mitsuba: integrator max_depth N is N - 1 bounces", "[scene][mitsuba][
     CHECK(depth(with("65")) == 64);
     CHECK(depth(with("3")) == 2);
     CHECK(depth(with("1")) == 0);
-    CHECK(depth(with("-1")) == 64);                    // unbounded
-    CHECK(depth("<integrator type=\"path\"/>") == 64); // Mitsuba's default -1
-    CHECK(depth("") == 64);                            // no integrator: path, max_depth -1
-    Scene capped = parse(std::string(kRect) + with("1000"));
-    CHECK(capped.render.depth == 64);
+    // Unbounded (-1, Mitsuba's default) is the renderer's depth cap (util/limits.h):
+    // Russian roulette ends the paths and the path pool stops when its queue is empty.
+    CHECK(depth(with("-1")) == limits::kMaxDepth);
+    CHECK(depth("<integrator type=\"path\"/>") == limits::kMaxDepth);
+    CHECK(depth("") == limits::kMaxDepth);  // no integrator: path, max_depth -1
+    CHECK(depth(with("1000")) == 999);
+    CHECK_FALSE(has_warning(parse(std::string(kRect) + with("1000")), "capped"));
+    Scene capped = parse(std::string(kRect) + with("2000000"));
+    CHECK(capped.render.depth == limits::kMaxDepth);
     CHECK(has_warning(capped, "capped"));
     CHECK_THAT(error_of_body(std::string(kRect) + with("-2")),
                Contains("max_depth -2 is out of range"));

@@ -1,7 +1,8 @@
 // cmd_render.cpp — `wavepath render [SCENE]`: the wavefront path tracer on the command line.
 //
 // Loads the scene (the built-in Cornell box, or a scene or mesh file), checks every output path
-// before any work, renders progressively (one sample per pixel per frame) until --spp or
+// before any work, renders progressively (1, 2, 4, ... samples per pixel per step, in waves of the path
+// pool) until --spp or
 // --time, writes the image(s) atomically and prints the per-stage kernel profile.
 #include <cmath>
 #include <cstdio>
@@ -249,12 +250,12 @@ Subcommand add_render(CLI::App& app) {
     auto* c = s.app;
     c->add_option("scene", args->scene, kSceneArgHelp);
     c->add_option("--spp", args->spp,
-                  "Samples per pixel (one per frame), 1..2^24 (beats the scene file's spp)")
+                  "Samples per pixel, 1..2^24 (beats the scene file's spp)")
         ->capture_default_str()
         ->each([a = args.get()](const std::string&) { a->spp_given = true; });
     c->add_option("--time", args->time_s,
-                  "Stop after this many seconds even if --spp is not reached (the frame in "
-                  "flight completes); 0 = no limit")
+                  "Stop after this many seconds even if --spp is not reached (the samples in "
+                  "flight complete); 0 = no limit")
         ->capture_default_str();
     add_config_options(c, args->config);
     c->add_option("--seed", args->seed,
@@ -266,7 +267,7 @@ Subcommand add_render(CLI::App& app) {
                   "Write only this image; format from the extension: .exr (linear float), "
                   ".png/.jpg (8-bit sRGB). Default: render.exr and render.png");
     c->add_option("--profile", args->profile,
-                  "Write the kernel profile (device, scene statistics, per-stage and per-frame "
+                  "Write the kernel profile (device, scene statistics, per-stage, per-spp and per-wave "
                   "times) as JSON to this file, and a Chrome trace-event file (Perfetto) next to "
                   "it: FILE.json -> FILE.trace.json");
     c->add_flag("--variance", args->variance,
@@ -283,7 +284,7 @@ Subcommand add_render(CLI::App& app) {
     c->add_option("--debug-nan", args->debug_nan,
                   "Debugging the NaN/Inf guards: inject NaN into these stages (comma list of "
                   "generate, shade, accumulate) for every pixel p with p % PERIOD == 0 in every "
-                  "frame; each stage's guard must catch and count every one (reported at the "
+                  "sample; each stage's guard must catch and count every one (reported at the "
                   "end), and the image stays finite")
         ->group("Debugging");
     c->add_option("--debug-nan-period", args->debug_nan_period,

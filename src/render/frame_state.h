@@ -81,8 +81,8 @@ struct FilmBuffers {
     void clear(const ocl::Device& dev) const;
 };
 
-// The pool capacity for a render of `pixels` pixels: `requested` when > 0, else the largest
-// of kDefaultCapacity, 16 passes of the image and the memory share of the device that holds;
+// The pool capacity for a render of `pixels` pixels: `requested` when > 0, else the smallest
+// of kDefaultCapacity, 16 passes of the image and what the device's memory share holds;
 // at least one work-group. Throws wp::Error when a requested pool does not fit.
 std::size_t pool_capacity(const ocl::Device& dev, std::size_t pixels, std::size_t requested, bool nee);
 

@@ -30,7 +30,6 @@ namespace fs = std::filesystem;
 constexpr double kPi = std::numbers::pi;
 
 // Limits against hostile input (see mitsuba_loader.h).
-constexpr int kUnboundedDepth = 64; // bounces for max_depth -1 (and the cap)
 // Film and spp ranges: util/limits.h, the same as the command line's.
 constexpr int kMaxFilmSide = limits::kMaxImageSide;
 constexpr long long kMaxFilmPixels = limits::kMaxPixels;
@@ -801,15 +800,15 @@ void Reader::read_integrator(pugi::xml_node n) {
     if (md < -1) {
         error(n, "max_depth {} is out of range (-1 = unbounded, or >= 0)", md);
     } else if (md == -1) {
-        depth = kUnboundedDepth;
+        depth = limits::kMaxDepth;  // unbounded: Russian roulette ends the paths
     } else if (md == 0) {
         note("max_depth 0", n,
              "max_depth 0 renders nothing in Mitsuba; wavepath shows the emitters (depth 0)");
         depth = 0;
-    } else if (md - 1 > kUnboundedDepth) {
+    } else if (md - 1 > limits::kMaxDepth) {
         note("max_depth cap", n,
-             fmt::format("max_depth {} capped at {} bounces", md, kUnboundedDepth));
-        depth = kUnboundedDepth;
+             fmt::format("max_depth {} capped at {} bounces", md, limits::kMaxDepth));
+        depth = limits::kMaxDepth;
     } else {
         depth = int(md - 1);
     }
@@ -1382,7 +1381,7 @@ Scene Reader::read() {
                              "Mitsuba 3's names",
                              version));
     }
-    scene_.render.depth = kUnboundedDepth; // Mitsuba's default integrator: path, max_depth -1
+    scene_.render.depth = limits::kMaxDepth; // Mitsuba's default integrator: path, max_depth -1
 
     // Top-level elements in document order
     for (pugi::xml_node c : root.children()) {
