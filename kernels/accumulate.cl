@@ -4,10 +4,11 @@
 // pixel first_pixel + (i mod pixel_count) when the wave is whole passes (first_pixel = 0),
 // else to pixel first_pixel + i. Work-item j takes pixel first_pixel + j and adds its items
 // j, j + pixel_count, j + 2 pixel_count, ... in that order, i.e. in sample order, so the
-// film's sums are the same bits whatever the wave sizes were.
+// film's sums are the same bits whatever the wave sizes were. `film` is the segment of the
+// film that starts at pixel film_first (a device caps one buffer; the wave lies inside it).
 // accumulate_film
 //   reads   radiance[i] for i < count (written by generate, shade and shadow)
-//   writes  film[p] (FilmPixel: double-float running sum, film.h), counters
+//   writes  film[p - film_first] (FilmPixel: double-float running sum, film.h), counters
 //           [WP_COUNTER_ACCUMULATE_NONFINITE] when a sample is NaN/Inf (it is dropped, so
 //           NaN/Inf never reach the film)
 //   pushes  nothing. Launched over min(count, pixel_count) items; the host divides by the
@@ -21,14 +22,15 @@
 
 // Adds the wave's samples of one pixel; with film_sq also their squares.
 WP_FN void wp_accumulate_pixel(WP_GLOBAL const float4* radiance, int first_pixel, int count,
-                               int pixel_count, WP_GLOBAL FilmPixel* film,
+                               int pixel_count, int film_first, WP_GLOBAL FilmPixel* film,
                                WP_GLOBAL int* counters, WP_GLOBAL FilmPixel* film_sq) {
     int j = wp_global_id();
     if (j >= min(count, pixel_count)) return;
     int p = first_pixel + j;
-    FilmPixel sum = film[p];
+    int f = p - film_first;  // the pixel's slot in this film segment
+    FilmPixel sum = film[f];
     FilmPixel sq = sum;
-    if (film_sq) sq = film_sq[p];
+    if (film_sq) sq = film_sq[f];
     for (int i = j; i < count; i += pixel_count) {
         float3 x = wp_xyz(radiance[i]);
 #if WP_INJECT_NAN
@@ -41,18 +43,20 @@ WP_FN void wp_accumulate_pixel(WP_GLOBAL const float4* radiance, int first_pixel
         sum = wp_film_add(sum, x);
         if (film_sq) sq = wp_film_add_square(sq, x);
     }
-    film[p] = sum;
-    if (film_sq) film_sq[p] = sq;
+    film[f] = sum;
+    if (film_sq) film_sq[f] = sq;
 }
 
 WP_KERNEL void accumulate_film(WP_GLOBAL const float4* radiance, int first_pixel, int count,
-                               int pixel_count, WP_GLOBAL FilmPixel* film,
+                               int pixel_count, int film_first, WP_GLOBAL FilmPixel* film,
                                WP_GLOBAL int* counters) {
-    wp_accumulate_pixel(radiance, first_pixel, count, pixel_count, film, counters, 0);
+    wp_accumulate_pixel(radiance, first_pixel, count, pixel_count, film_first, film, counters, 0);
 }
 
 WP_KERNEL void accumulate_film_variance(WP_GLOBAL const float4* radiance, int first_pixel,
-                                        int count, int pixel_count, WP_GLOBAL FilmPixel* film,
-                                        WP_GLOBAL int* counters, WP_GLOBAL FilmPixel* film_sq) {
-    wp_accumulate_pixel(radiance, first_pixel, count, pixel_count, film, counters, film_sq);
+                                        int count, int pixel_count, int film_first,
+                                        WP_GLOBAL FilmPixel* film, WP_GLOBAL int* counters,
+                                        WP_GLOBAL FilmPixel* film_sq) {
+    wp_accumulate_pixel(radiance, first_pixel, count, pixel_count, film_first, film, counters,
+                        film_sq);
 }

@@ -30,14 +30,15 @@
 #include "shared/offset.h"
 #include "shared/rng.h"
 
+// Without options: the generic program of the shipped estimator (estimator.h).
 #ifndef WP_HAVE_EMISSION
 #define WP_HAVE_EMISSION 1
 #endif
 #ifndef WP_HAVE_NEE
-#define WP_HAVE_NEE 0
+#define WP_HAVE_NEE (WP_SAMPLING == WP_SAMPLING_NEE || WP_SAMPLING == WP_SAMPLING_MIS)
 #endif
 #ifndef WP_RR_DEPTH
-#define WP_RR_DEPTH (-1)
+#define WP_RR_DEPTH WP_DEFAULT_RR_DEPTH
 #endif
 
 // The light arrays of shade_surface, bundled for the helpers.

@@ -32,10 +32,10 @@ struct Accum {
     void set(const std::vector<float4>& r) { radiance.write(test::device(), r); }
     // One whole pass (or a wave of `count` items from `first_pixel`).
     void launch(int first_pixel = 0, int count = 0) {
-        stage.enqueue(radiance, first_pixel, count > 0 ? count : n, n, film);
+        stage.enqueue(radiance, first_pixel, count > 0 ? count : n, n, film.segments[0], film.counters);
     }
-    std::vector<FilmPixel> read() { return film.sum.read(test::device()); }
-    std::vector<FilmPixel> read_sq() { return film.sum_sq.read(test::device()); }
+    std::vector<FilmPixel> read() { return film.segments[0].sum.read(test::device()); }
+    std::vector<FilmPixel> read_sq() { return film.segments[0].sum_sq.read(test::device()); }
     std::vector<int> read_counters() { return film.counters.read(test::device()); }
 };
 

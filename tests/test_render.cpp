@@ -25,9 +25,10 @@ struct Rendered {
 Rendered render_scene(const Scene& scene, int w, int h, int spp, int depth, std::uint32_t seed,
                       render::Traversal traversal = render::Traversal::Stackless,
                       render::Sampling sampling = render::Sampling::Mis, int rr_depth = 3,
-                      bool sobol = true, std::size_t pool = 0) {
+                      bool sobol = true, std::size_t pool = 0, std::size_t film_segment = 0) {
     render::RenderSettings s;
     s.pool = pool;
+    s.film_segment = film_segment;
     s.estimator.sobol = sobol;
     s.estimator.sampling = sampling;
     s.estimator.rr_depth = rr_depth;
@@ -187,6 +188,12 @@ TEST_CASE("render: the same image, bit for bit, for every path pool size", "[ren
         CHECK(std::memcmp(r.film.data(), ref.film.data(), r.film.size() * sizeof(FilmPixel)) == 0);
         CHECK(r.rays == ref.rays);
     }
+    // A film in segments of 100 pixels (as a 16384^2 film is on a device that caps one
+    // buffer at 2 GiB): waves never straddle two, and the film is the same.
+    Rendered seg = render_scene(scene, w, h, spp, depth, 3, render::Traversal::Stackless,
+                                render::Sampling::Mis, 3, true, 37, 100);
+    CHECK(std::memcmp(seg.film.data(), ref.film.data(), seg.film.size() * sizeof(FilmPixel)) == 0);
+    CHECK(seg.image.rgb == ref.image.rgb);
 }
 
 // With no depth limit to speak of, Russian roulette ends every path, the pool's wave ends

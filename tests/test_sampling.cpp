@@ -60,7 +60,7 @@ cl::Buffer upload(const std::vector<T>& v) {
 
 ocl::Program& probe_program() {
     static ocl::Program prog = ocl::Program::build(
-        test::device(), "test_sampling.cl", "-D WP_SAMPLING=3 -D WP_GLOSSY_MODEL=1");
+        test::device(), "test_sampling.cl", "-D WP_SAMPLING=3 -D WP_GLOSSY_MODEL=1 -D WP_SAMPLER=0");
     return prog;
 }
 

@@ -29,19 +29,14 @@
 #include "sampling.h"
 #include "types.h"
 
-// Sampling strategies (--sampling; render/kernel_config.h).
-#define WP_SAMPLING_UNIFORM 0  // uniform hemisphere for diffuse, no light sampling (original)
-#define WP_SAMPLING_COSINE 1   // BSDF sampling only: cosine diffuse, lobe sampling for glossy
-#define WP_SAMPLING_NEE 2      // cosine + next-event estimation for diffuse/glossy surfaces
-#define WP_SAMPLING_MIS 3      // NEE and BSDF sampling combined by the power heuristic
+// The strategy (WP_SAMPLING) and glossy model (WP_GLOSSY_MODEL): estimator.h, whose
+// defaults are the shipped ones.
+#include "estimator.h"
 #ifndef WP_SAMPLING
-#define WP_SAMPLING WP_SAMPLING_UNIFORM
+#define WP_SAMPLING WP_DEFAULT_SAMPLING
 #endif
-// Glossy models (--glossy).
-#define WP_GLOSSY_PHONG 0
-#define WP_GLOSSY_GGX 1
 #ifndef WP_GLOSSY_MODEL
-#define WP_GLOSSY_MODEL WP_GLOSSY_PHONG
+#define WP_GLOSSY_MODEL WP_DEFAULT_GLOSSY_MODEL
 #endif
 
 #include "material_kinds.h"

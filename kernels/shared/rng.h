@@ -13,12 +13,12 @@
 #include "compat.h"
 #include "sobol.h"
 
-// The sampler (--sampler): 0 = the counter-based pcg4d numbers below, 1 = Owen-scrambled
-// Sobol points (sobol.h) indexed by the sample, scrambled per (seed, pixel, bounce, group).
-#define WP_SAMPLER_RANDOM 0
-#define WP_SAMPLER_SOBOL 1
+// The sampler (WP_SAMPLER, estimator.h): the counter-based pcg4d numbers below, or
+// Owen-scrambled Sobol points (sobol.h) indexed by the sample, scrambled per (seed, pixel,
+// bounce, group); the default is the shipped one.
+#include "estimator.h"
 #ifndef WP_SAMPLER
-#define WP_SAMPLER WP_SAMPLER_RANDOM
+#define WP_SAMPLER WP_DEFAULT_SAMPLER
 #endif
 
 WP_NAMESPACE_BEGIN

@@ -29,18 +29,41 @@ PathPool::PathPool(const ocl::Device& dev, std::size_t capacity, bool nee) : cap
     bytes_ = capacity * bytes_per_path(nee);
 }
 
-FilmBuffers::FilmBuffers(const ocl::Device& dev, std::size_t pixels, bool with_variance)
+FilmBuffers::FilmBuffers(const ocl::Device& dev, std::size_t pixels, bool with_variance,
+                         std::size_t segment_pixels)
     : variance(with_variance) {
-    sum = ocl::Array<FilmPixel>::allocate(dev, pixels, "the film");
-    if (variance) sum_sq = ocl::Array<FilmPixel>::allocate(dev, pixels, "the film's sum of squares");
+    std::size_t seg = segment_pixels > 0 ? segment_pixels : dev.info.max_alloc / sizeof(FilmPixel);
+    seg = std::max<std::size_t>(seg, 1);
+    // The whole film must fit the device, not only each segment.
+    dev.check_alloc(std::min(seg, pixels) * sizeof(FilmPixel), "a film segment");
+    if (pixels * bytes_per_pixel(variance) > dev.info.global_mem)
+        fail("the film needs {}, but device '{}' has {} of memory",
+             ocl::format_bytes(pixels * bytes_per_pixel(variance)), dev.info.name,
+             ocl::format_bytes(dev.info.global_mem));
+    for (std::size_t first = 0; first < pixels; first += seg) {
+        FilmSegment s;
+        s.first = first;
+        s.size = std::min(seg, pixels - first);
+        s.sum = ocl::Array<FilmPixel>::allocate(dev, s.size, "the film");
+        if (variance) s.sum_sq = ocl::Array<FilmPixel>::allocate(dev, s.size, "the film's sum of squares");
+        segments.push_back(std::move(s));
+    }
     counters = ocl::Array<int>::allocate(dev, WP_COUNTER_COUNT, "the counters");
     ray_total = ocl::Array<cl_ulong>::allocate(dev, 1, "the ray total");
     clear(dev);
 }
 
+const FilmSegment& FilmBuffers::segment_of(std::size_t p) const {
+    for (const auto& s : segments)
+        if (p < s.first + s.size) return s;
+    fail("pixel {} is outside the film", p);
+}
+
 void FilmBuffers::clear(const ocl::Device& dev) const {
-    sum.fill_zero(dev);
-    if (variance) sum_sq.fill_zero(dev);
+    for (const auto& s : segments) {
+        s.sum.fill_zero(dev);
+        if (variance) s.sum_sq.fill_zero(dev);
+    }
     counters.fill_zero(dev);
     ray_total.fill_zero(dev);
 }

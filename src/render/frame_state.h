@@ -16,6 +16,7 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <vector>
 
 #include "cl/kernel.h"
 #include "shared/types.h"
@@ -63,20 +64,32 @@ class PathPool {
     std::size_t bytes_ = 0;
 };
 
-// The film: running sums per pixel (and of squares with variance), the NaN/Inf counters
-// per stage and the total of rays traced.
-struct FilmBuffers {
+// Pixels [first, first + size) of the film in one buffer (and its sum of squares).
+struct FilmSegment {
+    std::size_t first = 0, size = 0;
     ocl::Array<FilmPixel> sum;
     ocl::Array<FilmPixel> sum_sq;  // allocated only with variance
-    ocl::Array<int> counters;      // WP_COUNTER_COUNT
+};
+
+// The film: running sums per pixel (and of squares with variance), the NaN/Inf counters
+// per stage and the total of rays traced. A device caps one buffer (PoCL: 2 GiB, 67M
+// pixels), so the film is cut into segments of at most that; a wave never straddles two
+// (Wavefront::render_passes), and one segment holds any image that fits the pool.
+struct FilmBuffers {
+    std::vector<FilmSegment> segments;
+    ocl::Array<int> counters;        // WP_COUNTER_COUNT
     ocl::Array<cl_ulong> ray_total;  // one element
     bool variance = false;
 
     FilmBuffers() = default;
-    FilmBuffers(const ocl::Device& dev, std::size_t pixels, bool variance);
+    // segment_pixels: pixels per segment; 0 = the most one buffer of the device holds.
+    FilmBuffers(const ocl::Device& dev, std::size_t pixels, bool variance,
+                std::size_t segment_pixels = 0);
     static std::size_t bytes_per_pixel(bool variance) {
         return sizeof(FilmPixel) * (variance ? 2 : 1);
     }
+    // The segment that holds pixel p.
+    const FilmSegment& segment_of(std::size_t p) const;
     // Zeroes the sums, counters and ray total (enqueued).
     void clear(const ocl::Device& dev) const;
 };

@@ -12,21 +12,21 @@
 #include <string>
 
 #include "scene/scene.h"
-#include "util/limits.h"
+#include "shared/estimator.h"
 
 namespace wp::render {
 
-// --sampling (kernels/shared/bsdf.h WP_SAMPLING_*).
+// --sampling (kernels/shared/estimator.h WP_SAMPLING_*).
 enum class Sampling : int {
-    Uniform = 0,  // uniform hemisphere for diffuse, no light sampling (the original renderer)
-    Cosine = 1,   // BSDF sampling only: cosine-weighted diffuse, lobe/VNDF sampling for glossy
-    Nee = 2,      // cosine + next-event estimation (emission after specular bounces only)
-    Mis = 3,      // NEE and BSDF sampling, power heuristic (Veach & Guibas 1995)
+    Uniform = WP_SAMPLING_UNIFORM,  // uniform hemisphere for diffuse, no light sampling (the original)
+    Cosine = WP_SAMPLING_COSINE,    // BSDF sampling only: cosine diffuse, lobe/VNDF sampling for glossy
+    Nee = WP_SAMPLING_NEE,          // cosine + next-event estimation (emission after specular bounces only)
+    Mis = WP_SAMPLING_MIS,          // NEE and BSDF sampling, power heuristic (Veach & Guibas 1995)
 };
 // --glossy (WP_GLOSSY_*).
 enum class GlossyModel : int {
-    Phong = 0,  // the original weighted Phong lobe
-    Ggx = 1,    // GGX microfacet BRDF, visible-normal sampling
+    Phong = WP_GLOSSY_PHONG,  // the original weighted Phong lobe
+    Ggx = WP_GLOSSY_GGX,      // GGX microfacet BRDF, visible-normal sampling
 };
 
 const char* sampling_name(Sampling s);
@@ -35,13 +35,14 @@ const char* glossy_name(GlossyModel g);
 Sampling parse_sampling(const std::string& s);
 GlossyModel parse_glossy(const std::string& s);
 
-// The estimator (--sampling, --glossy, --sampler, --rr-depth). The defaults here are the
-// shipped configuration, the one definition that the CLI and the renderer use.
+// The estimator (--sampling, --glossy, --sampler, --rr-depth). Its defaults are the shipped
+// configuration of kernels/shared/estimator.h, the one definition that the kernels, the
+// CLI and the renderer use.
 struct Estimator {
-    Sampling sampling = Sampling::Mis;
-    GlossyModel glossy = GlossyModel::Ggx;
-    bool sobol = true;   // Owen-scrambled Sobol points (WP_SAMPLER=1), else pcg4d numbers
-    int rr_depth = limits::kDefaultRrDepth;  // Russian roulette from this bounce on; < 0 off
+    Sampling sampling = static_cast<Sampling>(WP_DEFAULT_SAMPLING);
+    GlossyModel glossy = static_cast<GlossyModel>(WP_DEFAULT_GLOSSY_MODEL);
+    bool sobol = WP_DEFAULT_SAMPLER == WP_SAMPLER_SOBOL;  // else the pcg4d numbers
+    int rr_depth = WP_DEFAULT_RR_DEPTH;  // Russian roulette from this bounce on; < 0 off
 
     // The original program's estimator: uniform hemisphere, weighted Phong lobe, random
     // numbers, no roulette.

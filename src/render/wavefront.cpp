@@ -35,7 +35,7 @@ Wavefront::Wavefront(ocl::Device& dev, const Scene& scene, const RenderSettings&
       scene_(DeviceScene::upload(dev, scene, config_, settings.width, settings.height, settings.jitter)) {
     const auto pixels = static_cast<std::size_t>(pixel_count());
     pool_ = PathPool(dev, render::pool_capacity(dev, pixels, settings.pool, config_.nee()), config_.nee());
-    film_ = FilmBuffers(dev, pixels, settings.variance);
+    film_ = FilmBuffers(dev, pixels, settings.variance, settings.film_segment);
 
     // Programs (disk-cached), one per stage, each with its slice of the configuration.
     Timer prog_timer;
@@ -54,6 +54,8 @@ std::size_t Wavefront::film_bytes() const {
 }
 
 int Wavefront::passes_per_wave() const {
+    // A film in several segments (only images larger than the pool) runs in chunks.
+    if (film_.segments.size() > 1) return 0;
     return static_cast<int>(pool_.capacity() / static_cast<std::size_t>(pixel_count()));
 }
 
@@ -79,9 +81,12 @@ void Wavefront::render_passes(int passes) {
             run_wave(0, sample, k * n);
             done += k;
         } else {
-            // One pass in chunks of the pool's capacity.
-            const int chunk = static_cast<int>(pool_.capacity());
-            for (int first = 0; first < n; first += chunk) run_wave(first, sample, std::min(chunk, n - first));
+            // One pass in chunks of the pool's capacity, none straddling two film segments.
+            const auto chunk = pool_.capacity();
+            for (const FilmSegment& seg : film_.segments)
+                for (std::size_t first = seg.first; first < seg.first + seg.size; first += chunk)
+                    run_wave(static_cast<int>(first), sample,
+                             static_cast<int>(std::min(chunk, seg.first + seg.size - first)));
             done += 1;
         }
     }
@@ -124,10 +129,18 @@ void Wavefront::run_wave(int first_pixel, std::uint32_t first_sample, int count)
         }
     }
     // The wave's radiance into the film, pixel by pixel in sample order.
-    accumulate_.enqueue(pool_.radiance, first_pixel, count, n, film_);
+    accumulate_.enqueue(pool_.radiance, first_pixel, count, n,
+                        film_.segment_of(static_cast<std::size_t>(first_pixel)), film_.counters);
 }
 
-std::vector<FilmPixel> Wavefront::film() { return film_.sum.read(dev_); }
+std::vector<FilmPixel> Wavefront::film() {
+    std::vector<FilmPixel> f;
+    for (const auto& seg : film_.segments) {
+        auto v = seg.sum.read(dev_);
+        f.insert(f.end(), v.begin(), v.end());
+    }
+    return f;
+}
 
 namespace {
 constexpr std::size_t kResolveChunk = std::size_t(1) << 22;  // pixels per film read
@@ -137,24 +150,24 @@ FilmMoments Wavefront::moments() {
     if (!settings_.variance) fail("the film keeps no variance (render settings without variance)");
     const int w = settings_.width, h = settings_.height;
     FilmMoments m{Image(w, h), Image(w, h), Image(w, h)};
-    const auto n = static_cast<std::size_t>(pixel_count());
-    for (std::size_t first = 0; first < n; first += kResolveChunk) {
-        std::size_t c = std::min(kResolveChunk, n - first);
-        auto s = film_.sum.read(dev_, first, c);
-        auto sq = film_.sum_sq.read(dev_, first, c);
-        resolve_moments_into(s.data(), sq.data(), c, first, passes_, m);
-    }
+    for (const auto& seg : film_.segments)
+        for (std::size_t k = 0; k < seg.size; k += kResolveChunk) {
+            std::size_t c = std::min(kResolveChunk, seg.size - k);
+            auto s = seg.sum.read(dev_, k, c);
+            auto sq = seg.sum_sq.read(dev_, k, c);
+            resolve_moments_into(s.data(), sq.data(), c, seg.first + k, passes_, m);
+        }
     return m;
 }
 
 Image Wavefront::resolve() {
     Image img(settings_.width, settings_.height);
-    const auto n = static_cast<std::size_t>(pixel_count());
-    for (std::size_t first = 0; first < n; first += kResolveChunk) {
-        std::size_t c = std::min(kResolveChunk, n - first);
-        auto s = film_.sum.read(dev_, first, c);
-        resolve_film_into(s.data(), c, first, passes_, img);
-    }
+    for (const auto& seg : film_.segments)
+        for (std::size_t k = 0; k < seg.size; k += kResolveChunk) {
+            std::size_t c = std::min(kResolveChunk, seg.size - k);
+            auto s = seg.sum.read(dev_, k, c);
+            resolve_film_into(s.data(), c, seg.first + k, passes_, img);
+        }
     return img;
 }
 

@@ -62,6 +62,9 @@ struct RenderSettings {
     int inject_period = 97;
     // Paths in flight (the pool's capacity); 0 = automatic (pool_capacity()).
     std::size_t pool = 0;
+    // Pixels per film buffer; 0 = the most one device buffer holds (tests set small values
+    // to exercise a film in several segments).
+    std::size_t film_segment = 0;
 };
 
 // Throws wp::Error naming the setting when a value is outside limits.h.

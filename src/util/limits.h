@@ -29,7 +29,7 @@ constexpr std::int64_t kMaxPixels = std::int64_t(1) << 28;
 constexpr int kDefaultWidth = 800;
 constexpr int kDefaultHeight = 600;
 
-// Russian roulette from this bounce on (-1: off).
-constexpr int kDefaultRrDepth = 3;
+// The estimator's defaults (sampling, glossy model, sampler, Russian roulette) are
+// kernels/shared/estimator.h's, read by the kernels and render::Estimator alike.
 
 }  // namespace wp::limits

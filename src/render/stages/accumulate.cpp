@@ -14,14 +14,20 @@ AccumulateStage::AccumulateStage(const ocl::Device& dev, const KernelConfig& con
       variance_(variance) {}
 
 ::cl::Event AccumulateStage::enqueue(const ocl::Array<float4>& radiance, int first_pixel, int count,
-                                     int pixel_count, const FilmBuffers& film) {
+                                     int pixel_count, const FilmSegment& segment,
+                                     const ocl::Array<int>& counters) {
     const auto items = static_cast<std::size_t>(std::min(count, pixel_count));
+    const auto first = static_cast<std::size_t>(first_pixel);
+    if (first < segment.first || first + items > segment.first + segment.size)
+        fail("accumulate: pixels {} to {} are not inside the film segment {} to {}", first,
+             first + items, segment.first, segment.first + segment.size);
     if (!variance_)
         return kernel_.launch(target_, items, radiance, cl_int(first_pixel), cl_int(count),
-                              cl_int(pixel_count), film.sum, film.counters);
-    if (!film.variance) fail("accumulate: the variance kernel needs a film with a sum of squares");
+                              cl_int(pixel_count), cl_int(segment.first), segment.sum, counters);
+    if (segment.sum_sq.size == 0) fail("accumulate: the variance kernel needs a film with a sum of squares");
     return kernel_.launch(target_, items, radiance, cl_int(first_pixel), cl_int(count),
-                          cl_int(pixel_count), film.sum, film.counters, film.sum_sq);
+                          cl_int(pixel_count), cl_int(segment.first), segment.sum, counters,
+                          segment.sum_sq);
 }
 
 }  // namespace wp::render

@@ -15,9 +15,11 @@ class AccumulateStage {
                     ocl::Profiler* profiler = nullptr);
 
     // accumulate_film(_variance): adds radiance[0..count) of a wave that starts at pixel
-    // first_pixel (generate.cl) to film.sum (and film.sum_sq).
+    // first_pixel (generate.cl) to the film segment's sum (and sum of squares); the wave
+    // lies inside the segment.
     ::cl::Event enqueue(const ocl::Array<float4>& radiance, int first_pixel, int count,
-                        int pixel_count, const FilmBuffers& film);
+                        int pixel_count, const FilmSegment& segment,
+                        const ocl::Array<int>& counters);
     const ocl::Program& program() const { return program_; }
 
   private:
