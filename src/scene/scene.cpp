@@ -10,44 +10,53 @@
 
 namespace wp {
 
+namespace {
+
+// One row per kind, in list order (material_kinds.h): what the host asks of a kind.
+struct KindInfo {
+    MaterialKind kind;
+    const char* name;
+    bool specular, alpha, ior;
+};
+constexpr KindInfo kKinds[] = {
+#define WP_KIND_ROW_(KIND, Kind, name, specular, alpha, ior) \
+    {MaterialKind::Kind, #name, specular != 0, alpha != 0, ior != 0},
+    WP_MATERIAL_KINDS(WP_KIND_ROW_)
+#undef WP_KIND_ROW_
+};
+
+const KindInfo* info(MaterialKind k) {
+    for (const KindInfo& i : kKinds)
+        if (i.kind == k) return &i;
+    return nullptr;
+}
+
+}  // namespace
+
 const char* to_string(MaterialKind k) {
-#define WP_KIND_NAME_(KIND, Kind, name, specular, alpha, ior) \
-    if (k == MaterialKind::Kind) return #name;
-    WP_MATERIAL_KINDS(WP_KIND_NAME_)
-#undef WP_KIND_NAME_
-    return "unknown";
+    const KindInfo* i = info(k);
+    return i ? i->name : "unknown";
 }
 
 std::optional<MaterialKind> material_kind_from_string(std::string_view s) {
-#define WP_KIND_PARSE_(KIND, Kind, name, specular, alpha, ior) \
-    if (s == #name) return MaterialKind::Kind;
-    WP_MATERIAL_KINDS(WP_KIND_PARSE_)
-#undef WP_KIND_PARSE_
+    for (const KindInfo& i : kKinds)
+        if (s == i.name) return i.kind;
     return std::nullopt;
 }
 
 bool is_specular(MaterialKind k) {
-#define WP_KIND_SPECULAR_(KIND, Kind, name, specular, alpha, ior) \
-    if (k == MaterialKind::Kind) return specular;
-    WP_MATERIAL_KINDS(WP_KIND_SPECULAR_)
-#undef WP_KIND_SPECULAR_
-    return false;
+    const KindInfo* i = info(k);
+    return i && i->specular;
 }
 
 bool uses_alpha(MaterialKind k) {
-#define WP_KIND_ALPHA_(KIND, Kind, name, specular, alpha, ior) \
-    if (k == MaterialKind::Kind) return alpha;
-    WP_MATERIAL_KINDS(WP_KIND_ALPHA_)
-#undef WP_KIND_ALPHA_
-    return false;
+    const KindInfo* i = info(k);
+    return i && i->alpha;
 }
 
 bool uses_ior(MaterialKind k) {
-#define WP_KIND_IOR_(KIND, Kind, name, specular, alpha, ior) \
-    if (k == MaterialKind::Kind) return ior;
-    WP_MATERIAL_KINDS(WP_KIND_IOR_)
-#undef WP_KIND_IOR_
-    return false;
+    const KindInfo* i = info(k);
+    return i && i->ior;
 }
 
 Aabb Scene::bounds() const {
