@@ -6,7 +6,7 @@
 #include <cstring>
 #include <vector>
 
-#include "cl/profiler.h"
+#include "cl/kernel.h"
 #include "cl/program.h"
 #include "support.h"
 
@@ -52,15 +52,7 @@ TEST_CASE("compat.h: OpenCL builtins and their C++ definitions agree bit for bit
     cl::Buffer ba = upload(a), bb = upload(b), bi = upload(idx), bm = upload(bits);
     cl::Buffer bf(dev.context, CL_MEM_WRITE_ONLY, sizeof(float4) * WP_COMPAT_F * n);
     cl::Buffer bn(dev.context, CL_MEM_WRITE_ONLY, sizeof(int) * WP_COMPAT_N * n);
-    auto k = prog.kernel("probe_compat");
-    k.setArg(0, ba);
-    k.setArg(1, bb);
-    k.setArg(2, bi);
-    k.setArg(3, bm);
-    k.setArg(4, n);
-    k.setArg(5, bf);
-    k.setArg(6, bn);
-    ocl::launch(dev.queue, k, "probe_compat", n);
+    ocl::Kernel(prog, "probe_compat").launch({&dev.queue}, n, ba, bb, bi, bm, n, bf, bn);
     std::vector<float4> dev_f(WP_COMPAT_F * n);
     std::vector<int> dev_n(WP_COMPAT_N * n);
     dev.queue.enqueueReadBuffer(bf, CL_TRUE, 0, sizeof(float4) * dev_f.size(), dev_f.data());

@@ -4,6 +4,7 @@
 #include <vector>
 
 #include "cl/profiler.h"
+#include "cl/kernel.h"
 #include "cl/program.h"
 #include "shared/types.h"
 #include "support.h"
@@ -18,9 +19,7 @@ TEST_CASE("shared struct layouts match between host and device", "[kernel][layou
     WP_LAYOUT_FIELDS(WP_HOST_PROBE)
 #undef WP_HOST_PROBE
     cl::Buffer out(dev.context, CL_MEM_WRITE_ONLY, 64 * sizeof(int));
-    auto k = prog.kernel("probe_layout");
-    k.setArg(0, out);
-    ocl::launch(dev.queue, k, "probe_layout", 1);
+    ocl::Kernel(prog, "probe_layout").launch({&dev.queue}, 1, out);
     std::vector<int> device(64, 0);
     dev.queue.enqueueReadBuffer(out, CL_TRUE, 0, 64 * sizeof(int), device.data());
     REQUIRE(host.size() < 63);

@@ -29,6 +29,7 @@
 #include "shared/sobol.h"
 
 #include "cl/profiler.h"
+#include "cl/kernel.h"
 #include "cl/program.h"
 #include "image/stats.h"
 #include "render/loop.h"
@@ -75,17 +76,11 @@ MaterialData material(int kind, float albedo, float alpha = 0) {
 // n BSDF samples on the device for arriving direction d and normal +z.
 std::vector<float4> sample_bsdf(MaterialData m, glm::vec3 d, int n, cl_uint seed, int front = 1) {
     auto& dev = test::device();
-    auto k = probe_program().kernel("probe_bsdf_sample");
+    ocl::Kernel k(probe_program(), "probe_bsdf_sample", "probe.bsdf");
     cl::Buffer out(dev.context, CL_MEM_READ_WRITE, n * sizeof(float4));
     glm::vec3 dn = glm::normalize(d);
-    k.setArg(0, m);
-    k.setArg(1, float4{dn.x, dn.y, dn.z, 0});
-    k.setArg(2, float4{0, 0, 1, 0});
-    k.setArg(3, front);
-    k.setArg(4, seed);
-    k.setArg(5, n);
-    k.setArg(6, out);
-    ocl::launch(dev.queue, k, "probe.bsdf", n);
+    k.launch({&dev.queue}, n, m, float4{dn.x, dn.y, dn.z, 0}, float4{0, 0, 1, 0}, front, seed, n,
+             out);
     std::vector<float4> r(n);
     dev.queue.enqueueReadBuffer(out, CL_TRUE, 0, n * sizeof(float4), r.data());
     return r;
@@ -193,19 +188,12 @@ TEST_CASE("sampling: light triangles by power, points uniform on them (chi2)",
 
     const int n = 1000000, g = 10;
     auto& dev = test::device();
-    auto k = probe_program().kernel("probe_light_sample");
+    ocl::Kernel k(probe_program(), "probe_light_sample", "probe.light");
     cl::Buffer b_cdf = upload(lt.cdf), b_prims = upload(lt.prims), b_pdf = upload(lt.pdf_area);
     cl::Buffer b_light(dev.context, CL_MEM_READ_WRITE, n * sizeof(int));
     cl::Buffer b_point(dev.context, CL_MEM_READ_WRITE, n * sizeof(float4));
-    k.setArg(0, b_cdf);
-    k.setArg(1, b_prims);
-    k.setArg(2, b_pdf);
-    k.setArg(3, static_cast<int>(lt.size()));
-    k.setArg(4, cl_uint(9));
-    k.setArg(5, n);
-    k.setArg(6, b_light);
-    k.setArg(7, b_point);
-    ocl::launch(dev.queue, k, "probe.light", n);
+    k.launch({&dev.queue}, n, b_cdf, b_prims, b_pdf, static_cast<int>(lt.size()), cl_uint(9), n,
+             b_light, b_point);
     std::vector<int> li(n);
     std::vector<float4> pt(n);
     dev.queue.enqueueReadBuffer(b_light, CL_TRUE, 0, n * sizeof(int), li.data());

@@ -117,22 +117,17 @@ std::vector<WatertightCase> watertight_cases(bool small) {
 
 HardProbe::HardProbe(const ocl::Device& dev, BatchTracer& tracer)
     : dev_(dev), tracer_(tracer), program_(ocl::Program::build(dev, "test_hard.cl")) {
-    gen_ = program_.kernel("hard_edge_rays");
-    count_ = program_.kernel("hard_count");
+    gen_ = ocl::Kernel(program_, "hard_edge_rays", "hard.edge_rays");
+    count_ = ocl::Kernel(program_, "hard_count", "hard.count");
 }
 
-void HardProbe::set_gen_args(const WatertightCase& c, const ::cl::Buffer& seg, std::uint32_t seed) {
-    gen_.setArg(0, seg);
-    gen_.setArg(1, static_cast<int>(c.segments.size() / 2));
-    gen_.setArg(2, c.center.x);
-    gen_.setArg(3, c.center.y);
-    gen_.setArg(4, c.center.z);
-    gen_.setArg(5, c.inner);
-    gen_.setArg(6, c.radius);
-    gen_.setArg(7, c.smin);
-    gen_.setArg(8, c.smax);
-    gen_.setArg(9, c.mode);
-    gen_.setArg(10, static_cast<cl_uint>(seed));
+void HardProbe::enqueue_edge_rays(const WatertightCase& c, const ::cl::Buffer& seg, std::uint32_t seed,
+                                  int first_segment, std::uint32_t round, int count,
+                                  const ::cl::Buffer& rays) {
+    gen_.launch({&dev_.queue}, static_cast<std::size_t>(count), seg,
+                static_cast<int>(c.segments.size() / 2), c.center.x, c.center.y, c.center.z, c.inner,
+                c.radius, c.smin, c.smax, c.mode, static_cast<cl_uint>(seed), first_segment,
+                static_cast<cl_uint>(round), count, rays);
 }
 
 namespace {
@@ -146,12 +141,7 @@ namespace {
 std::vector<Ray> HardProbe::edge_rays(const WatertightCase& c, int count, std::uint32_t seed) {
     ::cl::Buffer seg = upload_segments(dev_, c.segments);
     ::cl::Buffer rays(dev_.context, CL_MEM_READ_WRITE, std::max(1, count) * sizeof(Ray));
-    set_gen_args(c, seg, seed);
-    gen_.setArg(11, 0);
-    gen_.setArg(12, static_cast<cl_uint>(0));
-    gen_.setArg(13, count);
-    gen_.setArg(14, rays);
-    ocl::launch(dev_.queue, gen_, "hard.edge_rays", static_cast<std::size_t>(count));
+    enqueue_edge_rays(c, seg, seed, 0, 0, count, rays);
     std::vector<Ray> out(count);
     dev_.queue.enqueueReadBuffer(rays, CL_TRUE, 0, count * sizeof(Ray), out.data());
     return out;
@@ -169,7 +159,6 @@ HardCount HardProbe::watertight(const WatertightCase& c, std::uint64_t rays, Tra
     ::cl::Buffer rb(dev_.context, CL_MEM_READ_WRITE, cap * sizeof(Ray));
     ::cl::Buffer hb(dev_.context, CL_MEM_READ_WRITE, cap * sizeof(Hit));
     ::cl::Buffer cnt(dev_.context, CL_MEM_READ_WRITE, 4 * sizeof(int));
-    set_gen_args(c, seg, seed);
     HardCount r;
     Timer timer;
     for (std::uint64_t first = 0; first < rays; first += cap) {
@@ -177,16 +166,11 @@ HardCount HardProbe::watertight(const WatertightCase& c, std::uint64_t rays, Tra
         int zero[4] = {0, 0, 0, 0};
         dev_.queue.enqueueWriteBuffer(cnt, CL_FALSE, 0, sizeof(zero), zero);
         std::uint64_t nseg = c.segments.size() / 2;
-        gen_.setArg(11, static_cast<int>(first % nseg));
-        gen_.setArg(12, static_cast<cl_uint>(first / nseg));  // only its low bits matter
-        gen_.setArg(13, n);
-        gen_.setArg(14, rb);
-        ocl::launch(dev_.queue, gen_, "hard.edge_rays", static_cast<std::size_t>(n));
+        // (the round: only its low bits matter)
+        enqueue_edge_rays(c, seg, seed, static_cast<int>(first % nseg),
+                          static_cast<std::uint32_t>(first / nseg), n, rb);
         tracer_.enqueue(bvh, rb, n, hb, v);
-        count_.setArg(0, hb);
-        count_.setArg(1, n);
-        count_.setArg(2, cnt);
-        ocl::launch(dev_.queue, count_, "hard.count", static_cast<std::size_t>(n));
+        count_.launch({&dev_.queue}, static_cast<std::size_t>(n), hb, n, cnt);
         int out[4];
         dev_.queue.enqueueReadBuffer(cnt, CL_TRUE, 0, sizeof(out), out);
         r.misses += static_cast<std::uint64_t>(out[0]);

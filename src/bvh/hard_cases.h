@@ -23,6 +23,7 @@
 #include <glm/glm.hpp>
 
 #include "bvh/device_bvh.h"
+#include "cl/kernel.h"
 #include "scene/procedural.h"
 
 namespace wp::bvh {
@@ -68,8 +69,10 @@ class HardProbe {
     const ocl::Device& dev_;
     BatchTracer& tracer_;
     ocl::Program program_;
-    ::cl::Kernel gen_, count_;
-    void set_gen_args(const WatertightCase& c, const ::cl::Buffer& seg, std::uint32_t seed);
+    ocl::Kernel gen_, count_;
+    // hard_edge_rays over `count` rays from segment `first_segment`, round `round`.
+    void enqueue_edge_rays(const WatertightCase& c, const ::cl::Buffer& seg, std::uint32_t seed,
+                           int first_segment, std::uint32_t round, int count, const ::cl::Buffer& rays);
 };
 
 struct SelfHitCount {
