@@ -4,7 +4,7 @@
 // such as "--depth 2 --traversal stack") K times with seeds base, base+1, ..., each for T
 // seconds of render time, and records the error against a reference at checkpoints:
 // every power of two in spp, and the end. The Wavefront is built once per configuration
-// (Wavefront::reset between runs) and one discarded warm-up frame runs first, so program
+// (Wavefront::reset between runs) and one discarded warm-up pass runs first, so program
 // builds and kernel JIT are not render time; film reads and metrics at checkpoints are not
 // counted either (render/loop.h). Writes a CSV (configuration, run, seed, spp, seconds,
 // rmse, relmse, mae) and prints per configuration: relMSE at equal time (mean and

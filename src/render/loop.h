@@ -8,9 +8,9 @@
 // depend on the steps (render/wavefront.h). No buffer is read inside the loop except the
 // 8-byte ray total, and only when the progress line is due.
 //
-// Checkpoints: when LoopOptions::checkpoint_due(frames, seconds) says so (after a frame is
-// enqueued), the loop calls checkpoint(frames, seconds); a blocking film read there sees
-// exactly `frames` samples (the queue is in order). The time spent inside checkpoints is
+// Checkpoints: when LoopOptions::checkpoint_due(frames, seconds) says so (after a step is
+// enqueued; `frames` = samples per pixel so far), the loop calls checkpoint(frames,
+// seconds); a blocking film read there sees exactly `frames` samples (the queue is in order). The time spent inside checkpoints is
 // not render time: it is left out of `seconds`, of the time limit and of render_s, so
 // error-against-time curves are not bent by their own measurement.
 #pragma once

@@ -98,7 +98,7 @@ class Wavefront {
 
     // Blocking reads (call between render_passes, not inside the hot path). resolve() and
     // moments() read the film in chunks, so a 16384² film is not copied whole.
-    Image resolve();                                    // film sum / frames, linear RGB
+    Image resolve();                                    // film sum / spp, linear RGB
     std::array<int, WP_COUNTER_COUNT> counters();       // non-finite values per stage
     std::uint64_t rays_traced();                        // all rays traced so far
     std::vector<FilmPixel> film();                      // the raw film
