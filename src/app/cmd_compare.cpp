@@ -46,9 +46,9 @@ std::optional<Image> read_variance(const std::string& path, const Image& like, c
 // Everything up to the threshold decision; wp::Error here is a usage/input error (exit 2).
 int run_compare(const CompareArgs& a) {
     if (a.min_pass >= 0.0 && a.variance.empty() && a.ref_variance.empty())
-        fail("--min-pass needs --variance or --ref-variance (the z-test needs variances)");
-    if (a.min_pass > 1.0) fail("--min-pass {} is a fraction and must be in [0, 1]", a.min_pass);
-    if (!(a.alpha > 0.0 && a.alpha < 1.0)) fail("--alpha {} must be in (0, 1)", a.alpha);
+        usage_fail("--min-pass needs --variance or --ref-variance (the z-test needs variances)");
+    if (a.min_pass > 1.0) usage_fail("--min-pass {} is a fraction and must be in [0, 1]", a.min_pass);
+    if (!(a.alpha > 0.0 && a.alpha < 1.0)) usage_fail("--alpha {} must be in (0, 1)", a.alpha);
     if (!a.error_image.empty()) check_writable(a.error_image, "--error-image", true);
 
     Image x = read_image(a.a);

@@ -77,16 +77,16 @@ struct Row {
 Config parse_config(const std::string& spec) {
     auto eq = spec.find('=');
     if (eq == std::string::npos || eq == 0)
-        fail("--config '{}': expected NAME=OPTIONS, e.g. \"depth2=--depth 2\"", spec);
+        usage_fail("--config '{}': expected NAME=OPTIONS, e.g. \"depth2=--depth 2\"", spec);
     Config c{spec.substr(0, eq), spec.substr(eq + 1), {}};
     if (c.name.find_first_of(",\"\n") != std::string::npos)
-        fail("--config '{}': the name must not contain commas or quotes", spec);
+        usage_fail("--config '{}': the name must not contain commas or quotes", spec);
     CLI::App parser{"configuration"};
     add_config_options(&parser, c.args);
     try {
         parser.parse(c.options, false);
     } catch (const CLI::ParseError& e) {
-        fail("--config '{}': {} (a configuration takes --depth, --size, --device, --traversal, --sampling, --glossy, --rr-depth)",
+        usage_fail("--config '{}': {} (a configuration takes --depth, --size, --device, --traversal, --sampling, --glossy, --rr-depth)",
              spec, e.what());
     }
     return c;
@@ -124,19 +124,19 @@ std::optional<double> time_to(const std::vector<Row>& rows, double target) {
 int run_converge(const ConvergeArgs& a) {
     // 1. Options and outputs, before any work.
     if (!(a.time_s > 0.0) || !std::isfinite(a.time_s))
-        fail("--time must be a positive number of seconds (got {})", a.time_s);
-    if (a.runs < 1) fail("--runs must be at least 1 (got {})", a.runs);
+        usage_fail("--time must be a positive number of seconds (got {})", a.time_s);
+    if (a.runs < 1) usage_fail("--runs must be at least 1 (got {})", a.runs);
     if (a.reference_spp < 2 || a.reference_spp > limits::kMaxSpp)
-        fail("--reference-spp must be in 2..{} (got {})", limits::kMaxSpp, a.reference_spp);
+        usage_fail("--reference-spp must be in 2..{} (got {})", limits::kMaxSpp, a.reference_spp);
     if (a.max_spp < limits::kMinSpp || a.max_spp > limits::kMaxSpp)
-        fail("--max-spp must be in {}..{} (got {})", limits::kMinSpp, limits::kMaxSpp, a.max_spp);
+        usage_fail("--max-spp must be in {}..{} (got {})", limits::kMinSpp, limits::kMaxSpp, a.max_spp);
     std::vector<Config> configs;
     for (const auto& spec : a.configs) configs.push_back(parse_config(spec));
     if (configs.empty()) configs.push_back(parse_config("default="));
     for (std::size_t i = 0; i < configs.size(); ++i)
         for (std::size_t j = 0; j < i; ++j)
             if (configs[i].name == configs[j].name)
-                fail("--config name '{}' is used twice", configs[i].name);
+                usage_fail("--config name '{}' is used twice", configs[i].name);
     check_writable(a.csv, "--csv", false);
     Scene scene = load_scene(a.scene, a.quiet);
     std::vector<render::RenderSettings> settings;
@@ -170,7 +170,7 @@ int run_converge(const ConvergeArgs& a) {
     }
     for (std::size_t i = 0; i < configs.size(); ++i)
         if (settings[i].width != ref.image.width || settings[i].height != ref.image.height)
-            fail("--config '{}' renders {}x{} but the reference '{}' is {}x{} (add --size {}x{})",
+            usage_fail("--config '{}' renders {}x{} but the reference '{}' is {}x{} (add --size {}x{})",
                  configs[i].name, settings[i].width, settings[i].height, ref.path.string(),
                  ref.image.width, ref.image.height, ref.image.width, ref.image.height);
 

@@ -6,6 +6,7 @@
 // --time, writes the image(s) atomically and prints the per-stage kernel profile.
 #include <cmath>
 #include <cstdio>
+#include <limits>
 #include <filesystem>
 #include <optional>
 #include <memory>
@@ -39,7 +40,7 @@ struct RenderArgs {
     int spp = limits::kDefaultSpp;
     double time_s = 0.0;   // 0: no time limit
     ConfigArgs config;     // depth, size, device, traversal, sampling, glossy, rr-depth (app/render_options.h)
-    std::uint32_t seed = 0;
+    long long seed = 0;    // 0..limits::kMaxSeed, checked in run_render
     std::string output;    // empty: render.exr + render.png in the current folder
     std::string profile;   // profile JSON path; the trace goes next to it
     bool variance = false; // also write the variance of the mean (X.var.exr)
@@ -66,7 +67,7 @@ int parse_debug_nan(const std::string& list) {
         if (stage == "generate") mask |= WP_INJECT_GENERATE;
         else if (stage == "shade") mask |= WP_INJECT_SHADE;
         else if (stage == "accumulate") mask |= WP_INJECT_ACCUMULATE;
-        else fail("--debug-nan: unknown stage '{}' (expected generate, shade, accumulate)", stage);
+        else usage_fail("--debug-nan: unknown stage '{}' (expected generate, shade, accumulate)", stage);
         i = j + 1;
     }
     return mask;
@@ -75,14 +76,18 @@ int parse_debug_nan(const std::string& list) {
 int run_render(const RenderArgs& a) {
     // 1. Options.
     if (a.spp < limits::kMinSpp || a.spp > limits::kMaxSpp)
-        fail("--spp must be in {}..{} (got {})", limits::kMinSpp, limits::kMaxSpp, a.spp);
+        usage_fail("--spp must be in {}..{} (got {})", limits::kMinSpp, limits::kMaxSpp, a.spp);
     if (a.config.depth < limits::kMinDepth || a.config.depth > limits::kMaxDepth)
-        fail("--depth must be in {}..{} (got {})", limits::kMinDepth, limits::kMaxDepth,
+        usage_fail("--depth must be in {}..{} (got {})", limits::kMinDepth, limits::kMaxDepth,
              a.config.depth);
     if (!(a.time_s >= 0.0) || !std::isfinite(a.time_s))
-        fail("--time must be a number of seconds >= 0 (got {})", a.time_s);
+        usage_fail("--time must be a finite number of seconds >= 0 (0: no limit; got {})",
+                   a.time_s);
+    if (a.seed < 0 || a.seed > limits::kMaxSeed)
+        usage_fail("--seed must be in 0..{} (got {})", limits::kMaxSeed, a.seed);
     if (a.debug_nan_period < 1)
-        fail("--debug-nan-period must be at least 1 (got {})", a.debug_nan_period);
+        usage_fail("--debug-nan-period must be in 1..{} (got {})",
+                   std::numeric_limits<int>::max(), a.debug_nan_period);
     parse_debug_nan(a.debug_nan);  // checked before any work
 
     // 2. Outputs: checked before any work, so a bad path fails in milliseconds.
@@ -115,7 +120,8 @@ int run_render(const RenderArgs& a) {
     render::RenderSettings s = make_settings(a.config, scene);
     // The scene file's spp and seed, unless given on the command line.
     const int spp = a.spp_given || !scene.render.spp ? a.spp : *scene.render.spp;
-    s.seed = a.seed_given || !scene.render.seed ? a.seed : *scene.render.seed;
+    s.seed = a.seed_given || !scene.render.seed ? static_cast<std::uint32_t>(a.seed)
+                                                 : *scene.render.seed;
     s.inject_nan = parse_debug_nan(a.debug_nan);
     s.inject_period = a.debug_nan_period;
     if (spp < 1) fail("spp must be at least 1 (got {} from the scene file)", spp);

@@ -20,12 +20,20 @@ int run(int argc, char** argv) {
     try {
         app.parse(argc, argv);
     } catch (const CLI::ParseError& e) {
-        // --help / --version exit 0; every other parse error is a usage error (commands.h).
-        return app.exit(e) == 0 ? 0 : 2;
+        // --help / --version print their text and exit 0; every other parse error (a value
+        // of the wrong type, an unknown option, a missing argument) is a usage error: one
+        // line with wavepath's prefix, exit 2 (commands.h).
+        if (e.get_exit_code() == static_cast<int>(CLI::ExitCodes::Success)) return app.exit(e);
+        fmt::print(stderr, "wavepath: error: {}\nRun with --help for more information.\n",
+                   e.what());
+        return 2;
     }
     try {
         for (auto& s : subs)
             if (s.app->parsed()) return s.run();
+    } catch (const UsageError& e) {
+        fmt::print(stderr, "wavepath: error: {}\n", e.what());
+        return 2;
     } catch (const Error& e) {
         fmt::print(stderr, "wavepath: error: {}\n", e.what());
         return 1;

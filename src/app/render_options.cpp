@@ -3,11 +3,15 @@
 #include <unistd.h>
 
 #include <cctype>
+#include <cerrno>
+#include <cstdlib>
+#include <cstring>
 #include <regex>
 
 #include "image/image.h"
 #include "scene/builtin.h"
 #include "scene/load.h"
+#include "scene/validate.h"
 #include "util/error.h"
 #include "util/timer.h"
 
@@ -63,7 +67,7 @@ void add_config_options(CLI::App* c, ConfigArgs& a) {
 
 render::RenderSettings make_settings(const ConfigArgs& a, const Scene& scene) {
     if (a.depth < limits::kMinDepth || a.depth > limits::kMaxDepth)
-        fail("--depth must be in {}..{} (got {})", limits::kMinDepth, limits::kMaxDepth, a.depth);
+        usage_fail("--depth must be in {}..{} (got {})", limits::kMinDepth, limits::kMaxDepth, a.depth);
     render::RenderSettings s;
     s.width = scene.camera.width;
     s.height = scene.camera.height;
@@ -71,13 +75,15 @@ render::RenderSettings make_settings(const ConfigArgs& a, const Scene& scene) {
         static const std::regex re(R"((\d{1,6})[xX](\d{1,6}))");
         std::smatch m;
         if (!std::regex_match(a.size, m, re))
-            fail("--size '{}': expected WIDTHxHEIGHT, e.g. 800x600", a.size);
+            usage_fail("--size '{}': expected WIDTHxHEIGHT, e.g. 800x600", a.size);
         int w = std::stoi(m[1]), h = std::stoi(m[2]);
-        if (w <= 0 || h <= 0) fail("--size '{}': width and height must be positive", a.size);
+        if (w <= 0 || h <= 0) usage_fail("--size '{}': width and height must be in 1..{}", a.size,
+                                          limits::kMaxImageSide);
         if (w > limits::kMaxImageSide || h > limits::kMaxImageSide)
-            fail("--size '{}': each side must be at most {} pixels", a.size, limits::kMaxImageSide);
+            usage_fail("--size '{}': each side must be in 1..{} pixels", a.size, limits::kMaxImageSide);
         if (static_cast<std::int64_t>(w) * h > limits::kMaxPixels)
-            fail("--size '{}': more than {} pixels", a.size, limits::kMaxPixels);
+            usage_fail("--size '{}': more than {} pixels in all (at most {})", a.size,
+                       limits::kMaxPixels, limits::kMaxPixels);
         s.width = w;
         s.height = h;
     }
@@ -86,15 +92,19 @@ render::RenderSettings make_settings(const ConfigArgs& a, const Scene& scene) {
     else if (a.traversal == "stack")
         s.traversal = render::Traversal::Stack;
     else
-        fail("--traversal '{}': expected stackless or stack", a.traversal);
+        usage_fail("--traversal '{}': expected stackless or stack", a.traversal);
     s.depth = a.depth_given || !scene.render.depth ? a.depth : *scene.render.depth;
     s.estimator.sampling = render::parse_sampling(a.sampling);
     s.estimator.glossy = render::parse_glossy(a.glossy);
-    if (a.rr_depth < -1) fail("--rr-depth must be -1 (off) or >= 0 (got {})", a.rr_depth);
+    if (a.rr_depth < -1 || a.rr_depth > limits::kMaxDepth)
+        usage_fail("--rr-depth must be -1 (off) or in 0..{} (got {})", limits::kMaxDepth,
+                   a.rr_depth);
     s.estimator.rr_depth = a.rr_depth;
     if (a.sampler != "random" && a.sampler != "sobol")
-        fail("--sampler '{}': expected random or sobol", a.sampler);
+        usage_fail("--sampler '{}': expected random or sobol", a.sampler);
     s.estimator.sobol = a.sampler == "sobol";
+    if (a.pool > static_cast<std::size_t>(limits::kMaxPool))
+        usage_fail("--pool must be in 0..{} paths (0: automatic; got {})", limits::kMaxPool, a.pool);
     s.pool = a.pool;
     return s;
 }
@@ -124,6 +134,9 @@ Scene load_any(const std::string& arg, bool quiet) {
 
 Scene load_scene(const std::string& arg, bool quiet) {
     Scene scene = load_any(arg, quiet);
+    // The one no-light warning, whatever the format (OBJ, PLY, glTF, XML, JSON, built-ins).
+    if (!has_light(scene))
+        scene.warnings.push_back(no_light_warning(arg.empty() ? "builtin:cornell-box" : arg));
     if (!quiet)
         for (const auto& w : scene.warnings) fmt::print(stderr, "wavepath: warning: {}\n", w);
     return scene;
@@ -131,15 +144,35 @@ Scene load_scene(const std::string& arg, bool quiet) {
 
 void check_writable(const fs::path& path, const char* what, bool image) {
     if (image && !is_supported_image_path(path))
-        fail("{} '{}': unknown image extension '{}' (supported: .exr, .png, .jpg, .jpeg)", what,
-             path.string(), path.extension().string());
+        usage_fail("{} '{}': unknown image extension '{}' (supported: .exr, .png, .jpg, .jpeg)",
+                   what, path.string(), path.extension().string());
     fs::path dir = path.parent_path().empty() ? fs::path(".") : path.parent_path();
     std::error_code ec;
     if (!fs::is_directory(dir, ec))
         fail("{} '{}': folder '{}' does not exist", what, path.string(), dir.string());
-    if (access(dir.c_str(), W_OK) != 0)
-        fail("{} '{}': folder '{}' is not writable", what, path.string(), dir.string());
     if (fs::is_directory(path, ec)) fail("{} '{}' is a folder", what, path.string());
+    // Create, write and remove a probe file where the output's temporary will go
+    // (util/atomic_file.h): permissions alone miss a read-only or pseudo file system
+    // (/proc), root's bypass of them and a full disk, each of which would otherwise be found
+    // only after the whole render.
+    std::string probe = (dir / ".wavepath-probe-XXXXXX").string();
+    int fd = ::mkstemp(probe.data());
+    if (fd < 0) {
+        const int e = errno;
+        fail("{} '{}': cannot create a file in folder '{}': {}", what, path.string(),
+             dir.string(), std::strerror(e));
+    }
+    // A block's worth of bytes, so that a full disk fails here too (file systems with delayed
+    // allocation still reserve the space at write time).
+    const std::string block(4096, '\0');
+    const ssize_t n = ::write(fd, block.data(), block.size());
+    const int write_errno = errno;
+    const bool closed = ::close(fd) == 0;
+    const int close_errno = errno;
+    ::unlink(probe.c_str());
+    if (n != static_cast<ssize_t>(block.size()) || !closed)
+        fail("{} '{}': cannot write in folder '{}': {}", what, path.string(), dir.string(),
+             std::strerror(n < 0 ? write_errno : !closed ? close_errno : ENOSPC));
 }
 
 }  // namespace wp::app

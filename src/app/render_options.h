@@ -49,8 +49,10 @@ Scene load_scene(const std::string& arg, bool quiet = false);
 // The one-line list of what `load_scene` accepts, for --help texts.
 extern const char* const kSceneArgHelp;
 
-// Fails unless `path` can be created: a supported extension (when an image), an existing,
-// writable folder, and not itself a folder.
+// Fails unless `path` can be created: a supported extension (when an image; else a
+// wp::UsageError), an existing folder in which a probe file (.wavepath-probe-XXXXXX) can be
+// created, written (4 KiB) and removed, and not itself a folder. Milliseconds, before any
+// work: a read-only or pseudo file system or a full disk fails here, not after the render.
 void check_writable(const std::filesystem::path& path, const char* what, bool image);
 
 }  // namespace wp::app

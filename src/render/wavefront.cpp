@@ -15,7 +15,8 @@ void validate(const RenderSettings& s) {
         fail("image size {}x{}: more than {} pixels", s.width, s.height, limits::kMaxPixels);
     if (s.depth < limits::kMinDepth || s.depth > limits::kMaxDepth)
         fail("depth {} is outside {} to {}", s.depth, limits::kMinDepth, limits::kMaxDepth);
-    if (s.estimator.rr_depth < -1) fail("rr-depth {} must be -1 (off) or >= 0", s.estimator.rr_depth);
+    if (s.estimator.rr_depth < -1 || s.estimator.rr_depth > limits::kMaxDepth)
+        fail("rr-depth {} must be -1 (off) or in 0..{}", s.estimator.rr_depth, limits::kMaxDepth);
 }
 
 namespace {

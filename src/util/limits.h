@@ -29,6 +29,12 @@ constexpr std::int64_t kMaxPixels = std::int64_t(1) << 28;
 constexpr int kDefaultWidth = 800;
 constexpr int kDefaultHeight = 600;
 
+// Paths in flight (--pool): 0 picks the size automatically (render/frame_state.cpp).
+constexpr std::int64_t kMaxPool = std::int64_t(1) << 30;
+
+// Seeds are 32-bit: 0..kMaxSeed.
+constexpr std::int64_t kMaxSeed = 0xffffffffLL;
+
 // The estimator's defaults (sampling, glossy model, sampler, Russian roulette) are
 // kernels/shared/estimator.h's, read by the kernels and render::Estimator alike.
 
