@@ -558,7 +558,7 @@ Scene parse_assimp(std::string_view bytes, const std::string& extension,
             scene.warnings.push_back(fmt::format(
                 "{}: {} faces with fewer than 3 vertices (points, lines) skipped", file, skipped));
         scene.material_ids.assign(scene.triangles.size(), scene.add_material(default_material()));
-        scene.camera = frame_bounds(scene.bounds());
+        scene.camera = frame_bounds(scene.bounds(), file);
         validate_scene(scene);
         return scene;
     }
@@ -745,7 +745,7 @@ Scene parse_assimp(std::string_view bytes, const std::string& extension,
         scene.warnings.push_back(fmt::format(
             "{}: {} material(s) have a diffuse colour outside [0, 1]; clamped", file, notes.clamped));
 
-    scene.camera = frame_bounds(scene.bounds());
+    scene.camera = frame_bounds(scene.bounds(), file);
     scene.background = glm::vec3(0.0f);
     validate_scene(scene);
     return scene;

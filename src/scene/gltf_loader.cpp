@@ -330,7 +330,14 @@ Scene parse_gltf(std::string_view bytes, const fs::path& origin) {
         auto l = lines_of(err);
         std::string msg;
         for (std::size_t i = 0; i < l.size() && i < 3; ++i) msg += (i ? "; " : "") + l[i];
-        fail("{}: glTF: {}", file, msg.empty() ? std::string("tinygltf could not parse the file") : msg);
+        if (msg.empty()) msg = "tinygltf could not parse the file";
+        // The library's wording, inside wavepath's: a text that is no glTF 2.0 JSON at all
+        // (not JSON, too short, no "asset") says so first.
+        const bool not_gltf = !glb && (msg.find("JSON") != std::string::npos ||
+                                       msg.find("json") != std::string::npos ||
+                                       msg.find("asset") != std::string::npos);
+        if (not_gltf) fail("{}: not a glTF 2.0 file: {}", file, msg);
+        fail("{}: glTF: {}", file, msg);
     }
 
     Scene scene;
@@ -567,7 +574,7 @@ Scene parse_gltf(std::string_view bytes, const fs::path& origin) {
     note(notes.quantized, "{} primitive(s) have non-float POSITION (quantized); skipped");
     note(notes.ortho, "{} orthographic camera(s) ignored");
 
-    scene.camera = camera ? *camera : frame_bounds(scene.bounds());
+    scene.camera = camera ? *camera : frame_bounds(scene.bounds(), file);
     scene.background = glm::vec3(0.0f);
     validate_scene(scene);
     return scene;

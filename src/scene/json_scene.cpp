@@ -687,24 +687,12 @@ Scene Reader::read() {
     if (const Json* v = find(root, "render")) read_render(*v, top.key("render"), s);
     read_camera(find(root, "camera"), top.key("camera"), s);
 
-    // 5. Warnings: unused materials, no light at all.
+    // 5. Warnings: unused materials (no light at all: the command line's one warning,
+    // scene/validate.h has_light, for every format).
     for (const MaterialEntry& e : materials_)
         if (!e.used)
             s.warnings.push_back(fmt::format("{}: material '{}' ({}) is not used by any shape",
                                              file_, printable(e.name), pointer(e.path)));
-    std::vector<bool> emits(s.materials.size());
-    for (std::size_t i = 0; i < s.materials.size(); ++i) emits[i] = s.materials[i].emissive();
-    bool lit = glm::any(glm::greaterThan(s.background, glm::vec3(0.0f)));
-    for (std::uint32_t id : s.material_ids)
-        if (id < emits.size() && emits[id]) {
-            lit = true;
-            break;
-        }
-    if (!lit)
-        s.warnings.push_back(fmt::format(
-            "{}: no light: no triangle emits (no shape's material has \"emission\") and the "
-            "background is black, so the image will be black",
-            file_));
     validate_scene(s);
     return s;
 }

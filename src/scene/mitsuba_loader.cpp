@@ -1426,7 +1426,7 @@ Scene Reader::read() {
     if (scene_.triangles.empty())
         fail("{}: no shape that wavepath can render ({} skipped)", file_, skipped_shapes_);
     if (!have_sensor_) {
-        scene_.camera = frame_bounds(scene_.bounds());
+        scene_.camera = frame_bounds(scene_.bounds(), file_);
         note("no sensor", root,
              "no <sensor>: the camera frames the scene from +z (800 x 600, 40 degrees)");
     }

@@ -499,7 +499,7 @@ Scene parse_obj(std::string_view input, const std::filesystem::path& origin,
             file, without_material, scene.triangles.size()));
 
     // Camera framing the geometry; black background
-    scene.camera = frame_bounds(scene.bounds());
+    scene.camera = frame_bounds(scene.bounds(), file);
     scene.background = glm::vec3(0.0f);
     validate_scene(scene);
     return scene;

@@ -122,7 +122,7 @@ Camera camera_from_matrix(const glm::mat4& m, float vfov_deg, int width, int hei
     return c;
 }
 
-Camera frame_bounds(const Aabb& b) {
+Camera frame_bounds(const Aabb& b, const std::string& source) {
     Camera c;  // limits::kDefaultWidth x kDefaultHeight
     c.vfov_deg = 40.0f;
     const float radius = std::max(0.5f * glm::length(b.extent()), 1e-3f);
@@ -130,6 +130,18 @@ Camera frame_bounds(const Aabb& b) {
     c.target = b.center();
     c.position = c.target + glm::vec3(0.0f, 0.0f, distance);
     c.up = glm::vec3(0.0f, 1.0f, 0.0f);
+    // Finite vertices can still overflow here (the extent of +-1e38 is 2e38 > FLT_MAX, or the
+    // distance is): name that cause, not the camera that results from it.
+    auto finite = [](glm::vec3 v) {
+        return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z);
+    };
+    if (!finite(b.lo) || !finite(b.hi) || !std::isfinite(radius) || !std::isfinite(distance) ||
+        !finite(c.target) || !finite(c.position))
+        fail("{}: scene bounds ({:g}, {:g}, {:g}) to ({:g}, {:g}, {:g}) are too large to frame "
+             "with the automatic camera (its distance overflows a float); scale the scene down "
+             "or give it a camera",
+             source.empty() ? std::string("scene") : source, b.lo.x, b.lo.y, b.lo.z, b.hi.x,
+             b.hi.y, b.hi.z);
     return c;
 }
 

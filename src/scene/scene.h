@@ -107,7 +107,9 @@ Camera camera_from_matrix(const glm::mat4& to_world, float vfov_deg, int width, 
 
 // The default camera of files without one: 800 x 600, 40 degrees vertical fov, up +y,
 // looking from +z at the centre of the box, far enough for its bounding sphere to fit.
-Camera frame_bounds(const Aabb& b);
+// Throws wp::Error naming `source` (the file) when the bounds are too large to frame (the
+// distance or the position overflows a float).
+Camera frame_bounds(const Aabb& b, const std::string& source = {});
 
 // The vertical field of view for a horizontal one on a width x height film.
 float vfov_from_hfov(float hfov_deg, int width, int height);

@@ -2,6 +2,8 @@
 
 #include <cmath>
 
+#include <fmt/format.h>
+
 #include "util/error.h"
 
 namespace wp {
@@ -71,6 +73,20 @@ void validate_scene(const Scene& scene) {
     const glm::vec3 side = glm::cross(dir, c.up);
     if (glm::dot(side, side) == 0.0f)
         fail("scene '{}': camera up vector is zero or parallel to the view direction", name);
+}
+
+bool has_light(const Scene& scene) {
+    if (glm::any(glm::greaterThan(scene.background, glm::vec3(0.0f)))) return true;
+    for (std::uint32_t id : scene.material_ids)
+        if (id < scene.materials.size() && scene.materials[id].emissive()) return true;
+    return false;
+}
+
+std::string no_light_warning(const std::string& source) {
+    return fmt::format(
+        "{}: no light: no triangle emits (no material with emission is used) and the "
+        "background is black, so the image will be black",
+        source);
 }
 
 } // namespace wp

@@ -8,10 +8,20 @@
 // allowed: real scenes have them and the traversal must cope.
 #pragma once
 
+#include <string>
+
 #include "scene/scene.h"
 
 namespace wp {
 
 void validate_scene(const Scene& scene);
+
+// True when anything can light the image: a triangle whose material emits, or a background
+// brighter than black. Every loader's scene and the built-ins are checked by the command
+// line (app/render_options.cpp: load_scene), which warns once when this is false.
+bool has_light(const Scene& scene);
+
+// The one warning for a scene without light, naming `source` (the file or built-in).
+std::string no_light_warning(const std::string& source);
 
 } // namespace wp
