@@ -88,6 +88,7 @@ TEST_CASE("cli edges: every option out of range exits 2 with the allowed range",
                           Case{"--seed -1", "0..4294967295"},
                           Case{"--seed 4294967296", "0..4294967295"},
                           Case{"--pool 1099511627776", "0..1073741824"},
+                          Case{"--pool -1", "0..1073741824"},
                           Case{"--rr-depth -2", "0..1048576"},
                           Case{"--rr-depth 1048577", "0..1048576"},
                           Case{"--debug-nan-period 0", "1..2147483647"}}) {

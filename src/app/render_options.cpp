@@ -103,9 +103,9 @@ render::RenderSettings make_settings(const ConfigArgs& a, const Scene& scene) {
     if (a.sampler != "random" && a.sampler != "sobol")
         usage_fail("--sampler '{}': expected random or sobol", a.sampler);
     s.estimator.sobol = a.sampler == "sobol";
-    if (a.pool > static_cast<std::size_t>(limits::kMaxPool))
+    if (a.pool < 0 || a.pool > limits::kMaxPool)
         usage_fail("--pool must be in 0..{} paths (0: automatic; got {})", limits::kMaxPool, a.pool);
-    s.pool = a.pool;
+    s.pool = static_cast<std::size_t>(a.pool);
     return s;
 }
 

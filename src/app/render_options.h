@@ -28,7 +28,7 @@ struct ConfigArgs {
     std::string glossy = render::glossy_name(render::Estimator{}.glossy);        // phong | ggx
     std::string sampler = render::Estimator{}.sobol ? "sobol" : "random";       // sobol | random
     int rr_depth = render::Estimator{}.rr_depth;  // Russian roulette from this bounce on; -1 off
-    std::size_t pool = 0;                 // paths in flight; 0: automatic
+    long long pool = 0;                   // paths in flight, 0..limits::kMaxPool; 0: automatic
     bool depth_given = false;             // --depth was on the command line (beats the scene's)
 };
 
