@@ -29,6 +29,9 @@ struct LoopOptions {
     // Optional checkpoint hook; `seconds` is render time so far (checkpoints excluded).
     std::function<bool(int frames, double seconds)> checkpoint_due;
     std::function<void(int frames, double seconds)> checkpoint;
+    // Optional stop request (e.g. the first Ctrl-C), asked after each step: the loop then ends
+    // with the film holding whole passes (LoopResult::interrupted).
+    std::function<bool()> should_stop;
 };
 
 struct LoopResult {
@@ -36,6 +39,7 @@ struct LoopResult {
     double wall_s = 0.0;    // wall time of the whole loop
     double render_s = 0.0;  // wall time less the time spent in checkpoints
     bool stopped_by_time = false;
+    bool interrupted = false;  // should_stop said so before --spp was reached
 };
 
 LoopResult render_frames(Wavefront& wf, const LoopOptions& options, Progress* progress);
