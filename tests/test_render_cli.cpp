@@ -125,7 +125,7 @@ TEST_CASE("render CLI: a small render writes only the -o file and the profile", 
         }
     }
     CHECK(tracks == std::vector<std::string>{"device queue", "host"});
-    CHECK(host == std::vector<std::string>{"load", "bvh", "upload", "programs", "resolve", "write"});
+    CHECK(host == std::vector<std::string>{"load", "device", "bvh", "upload", "programs", "resolve", "write"});
     bool has_shadow = false;
     for (auto& s : j["stages"]) has_shadow |= s["name"] == "shadow";
     CHECK(has_shadow);

@@ -130,7 +130,10 @@ int run_render(const RenderArgs& a) {
     // A reference of the wrong size is an error before any rendering.
     std::optional<render::Reference> ref;
     if (!a.reference.empty()) ref = render::load_reference(a.reference, s.width, s.height);
-    ocl::Device dev = ocl::Device::open(a.config.device);
+    ocl::Device dev = [&] {
+        HostSpan span("device");  // the OpenCL platform and device (PoCL's start-up)
+        return ocl::Device::open(a.config.device);
+    }();
     render::Wavefront wf(dev, scene, s);
     // Host spans go onto the device's clock in the trace (measured once, before the render).
     const std::int64_t host_offset_ns = a.profile.empty() ? 0 : render::device_clock_offset_ns(dev);

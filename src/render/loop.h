@@ -6,7 +6,10 @@
 // step are 1, 2, 4, 8, ... (then multiples of the wave), and short renders, progress lines
 // and checkpoints keep a fine grain while long ones fill the pool. The image does not
 // depend on the steps (render/wavefront.h). No buffer is read inside the loop except the
-// 8-byte ray total, and only when the progress line is due.
+// 8-byte ray total, and only when the progress line is due: after each step and after each
+// wave inside it (Wavefront::render_passes' callback), so an image larger than the pool,
+// whose one pass is many waves, still shows fractional progress. Each step's time goes to
+// Progress::step for the ETA.
 //
 // Checkpoints: when LoopOptions::checkpoint_due(frames, seconds) says so (after a step is
 // enqueued; `frames` = samples per pixel so far), the loop calls checkpoint(frames,

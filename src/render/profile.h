@@ -50,7 +50,7 @@ nlohmann::json profile_json(const ProfileSummary& p);
 
 // Chrome trace-event JSON (Perfetto, chrome://tracing): one complete event ("ph": "X") per
 // recorded launch on track (tid) 1 "device queue" (cat "kernel"), and one per host span
-// (util/host_trace.h: load, bvh, programs, upload, resolve, write) on track 2 "host" (cat
+// (util/host_trace.h: load, device, bvh, upload, programs, resolve, write) on track 2 "host" (cat
 // "host"), shifted onto the device clock by `host_offset_ns` (device_clock_offset_ns());
 // times in microseconds from the earliest event; `dropped` launches past the profiler's
 // record limit are noted in the metadata.

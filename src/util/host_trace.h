@@ -1,7 +1,7 @@
 // host_trace.h — host work for the trace (issue 12, item 7): named spans of the steady clock.
 //
-// The renderer marks its host stages (scene load, BVH build, program builds, upload, film
-// resolve, image write) with HostSpan; the Chrome trace (render/profile.h) shows them on
+// The renderer marks its host stages (scene load, device start-up, BVH build, program
+// builds, upload, film resolve, image write) with HostSpan; the Chrome trace (render/profile.h) shows them on
 // their own track beside the device queue, shifted onto the device's profiling clock. One
 // recorder per process (host_trace()), thread-safe, keeping at most kMaxEvents spans (a
 // process that renders many times, such as the tests, does not grow without bound).
