@@ -10,6 +10,7 @@
 #include <fstream>
 #include <sstream>
 #include <string>
+#include <vector>
 
 #include <nlohmann/json.hpp>
 
@@ -107,8 +108,24 @@ TEST_CASE("render CLI: a small render writes only the -o file and the profile", 
     // complete events: the default --sampling mis traces shadow rays after every bounce but
     // the last, and paths of the open box survive to depth 2.
     int complete = 0;
-    for (auto& e : t["traceEvents"]) complete += e["ph"] == "X";
+    for (auto& e : t["traceEvents"]) complete += e["ph"] == "X" && e["tid"] == 1;
     CHECK(complete == 2 * (1 + 3 * 3 + 2 + 1));
+    // Issue 12, item 7: host work on its own track (tid 2 "host"), on the device's clock, in
+    // the order it ran.
+    std::vector<std::string> host;
+    std::vector<std::string> tracks;
+    for (auto& e : t["traceEvents"]) {
+        if (e["ph"] == "M" && e["name"] == "thread_name") tracks.push_back(e["args"]["name"]);
+        if (e["ph"] != "X") continue;
+        CHECK(e["ts"].get<double>() >= 0.0);
+        CHECK(e["dur"].get<double>() >= 0.0);
+        if (e["tid"] == 2) {
+            CHECK(e["cat"] == "host");
+            host.push_back(e["name"]);
+        }
+    }
+    CHECK(tracks == std::vector<std::string>{"device queue", "host"});
+    CHECK(host == std::vector<std::string>{"load", "device", "bvh", "upload", "programs", "resolve", "write"});
     bool has_shadow = false;
     for (auto& s : j["stages"]) has_shadow |= s["name"] == "shadow";
     CHECK(has_shadow);

@@ -3,7 +3,8 @@
 // Loads the scene (the built-in Cornell box, or a scene or mesh file), checks every output path
 // before any work, renders progressively (1, 2, 4, ... samples per pixel per step, in waves of the path
 // pool) until --spp or
-// --time, writes the image(s) atomically and prints the per-stage kernel profile.
+// --time, writes the image(s) atomically (the samples so far on a first Ctrl-C) and, with
+// --stats, prints the per-stage kernel profile.
 #include <cmath>
 #include <cstdio>
 #include <limits>
@@ -15,6 +16,7 @@
 
 #include <fmt/format.h>
 
+#include "app/interrupt.h"
 #include "app/render_options.h"
 #include "app/subcommands.h"
 #include "cl/device.h"
@@ -27,6 +29,7 @@
 #include "render/wavefront.h"
 #include "util/atomic_file.h"
 #include "util/error.h"
+#include "util/host_trace.h"
 #include "util/timer.h"
 
 namespace wp::app {
@@ -47,6 +50,7 @@ struct RenderArgs {
     std::string reference; // reference EXR to measure the error against
     bool quiet = false;
     bool verbose = false;
+    bool stats = false;    // print the per-stage kernel table
     std::string debug_nan;     // comma list of stages to inject NaN into (debugging)
     int debug_nan_period = 97;
     bool spp_given = false;   // --spp / --seed on the command line beat the scene file's
@@ -116,7 +120,10 @@ int run_render(const RenderArgs& a) {
     }
 
     // 3. Scene and device.
-    Scene scene = load_scene(a.scene, a.quiet);
+    Scene scene = [&] {
+        HostSpan span("load");
+        return load_scene(a.scene, a.quiet);
+    }();
     render::RenderSettings s = make_settings(a.config, scene);
     // The scene file's spp and seed, unless given on the command line.
     const int spp = a.spp_given || !scene.render.spp ? a.spp : *scene.render.spp;
@@ -129,8 +136,13 @@ int run_render(const RenderArgs& a) {
     // A reference of the wrong size is an error before any rendering.
     std::optional<render::Reference> ref;
     if (!a.reference.empty()) ref = render::load_reference(a.reference, s.width, s.height);
-    ocl::Device dev = ocl::Device::open(a.config.device);
+    ocl::Device dev = [&] {
+        HostSpan span("device");  // the OpenCL platform and device (PoCL's start-up)
+        return ocl::Device::open(a.config.device);
+    }();
     render::Wavefront wf(dev, scene, s);
+    // Host spans go onto the device's clock in the trace (measured once, before the render).
+    const std::int64_t host_offset_ns = a.profile.empty() ? 0 : render::device_clock_offset_ns(dev);
     if (a.verbose) {
         fmt::print(stderr, "device: {}: {} ({})\n", dev.info.platform, dev.info.name, dev.info.driver);
         fmt::print(stderr, "scene: {} ({} triangles, {} materials, BVH {} nodes, depth {}, {:.1f} ms)\n",
@@ -139,11 +151,14 @@ int run_render(const RenderArgs& a) {
         fmt::print(stderr, "kernel options: {}\n", wf.options());
     }
 
-    // 4. Render.
+    // 4. Render. From here the first Ctrl-C / SIGTERM stops after the step in flight and the
+    // samples so far are written (app/interrupt.h); a second one ends the process at once.
+    install_interrupt_handler();
     render::Progress progress(spp, a.time_s, !a.quiet);
     render::LoopOptions lo;
     lo.spp = spp;
     lo.time_limit_s = a.time_s;
+    lo.should_stop = [] { return interrupt_signal() != 0; };
     if (ref && !a.quiet) {
         // The error in the progress line, from a film read every few seconds only.
         auto last = std::make_shared<Timer>();
@@ -158,18 +173,29 @@ int run_render(const RenderArgs& a) {
     }
     render::LoopResult res = render::render_frames(wf, lo, &progress);
     std::uint64_t rays = wf.rays_traced();
-    progress.finish(res.frames, rays);
+    progress.finish(res.frames, rays, res.interrupted);
 
     // 5. Images (atomic writes).
-    Image img;
-    if (a.variance) {
-        render::FilmMoments mom = wf.moments();
-        img = std::move(mom.mean);
-        write_image(variance_path, mom.mean_variance);
-    } else {
-        img = wf.resolve();
+    // The header records the samples per pixel and whether Ctrl-C cut the render short.
+    const std::vector<ImageAttribute> attrs = {
+        {"wavepath:spp", std::to_string(res.frames), true},
+        {"wavepath:interrupted", res.interrupted ? "1" : "0", true}};
+    Image img, variance;
+    {
+        HostSpan span("resolve");
+        if (a.variance) {
+            render::FilmMoments mom = wf.moments();
+            img = std::move(mom.mean);
+            variance = std::move(mom.mean_variance);
+        } else {
+            img = wf.resolve();
+        }
     }
-    for (const auto& o : outputs) write_image(o, img);
+    {
+        HostSpan span("write");
+        if (a.variance) write_image(variance_path, variance, attrs);
+        for (const auto& o : outputs) write_image(o, img, attrs);
+    }
     std::optional<ErrorMetrics> err;
     if (ref) err = compare_images(img, ref->image);
 
@@ -190,14 +216,17 @@ int run_render(const RenderArgs& a) {
         if (a.variance) names += ", " + variance_path.string() + " (variance of the mean)";
         fmt::print("{}: {}x{}, {} spp, depth {}, {:.2f} s{}; wrote {}\n", scene.name, s.width,
                    s.height, res.frames, s.depth, res.render_s,
-                   res.stopped_by_time ? " (time limit)" : "", names);
+                   res.stopped_by_time ? " (time limit)"
+                   : res.interrupted   ? fmt::format(" (interrupted at {} spp)", res.frames)
+                                       : "",
+                   names);
         fmt::print("kernel options: {}\n", wf.options());
         if (err)
             fmt::print("error against {}: {} (relMSE eps 1e-2); largest |difference| {:.3e} at "
                        "pixel ({}, {})\n",
                        a.reference, render::format_errors(*err), err->max_abs, err->max_x,
                        err->max_y);
-        fmt::print("{}", render::format_profile_table(prof));
+        if (a.stats) fmt::print("{}", render::format_profile_table(prof));
     }
     if (err) {
         std::string w = render::reference_warning(*ref, err->relmse);
@@ -237,9 +266,13 @@ int run_render(const RenderArgs& a) {
                           {"accumulate", counters[WP_COUNTER_ACCUMULATE_NONFINITE]}};
         j["trace"] = trace_path.string();
         write_text_atomically(a.profile, j.dump(2) + "\n");
-        write_text_atomically(trace_path, render::chrome_trace(wf.profiler().trace(), wf.profiler().trace_dropped()).dump() + "\n");
+        write_text_atomically(trace_path, render::chrome_trace(wf.profiler().trace(), wf.profiler().trace_dropped(),
+                                                   host_trace().events(), host_offset_ns)
+                                      .dump() + "\n");
         if (!a.quiet) fmt::print("profile: {} (trace: {})\n", a.profile, trace_path.string());
     }
+    // Interrupted (or a signal during the writes): 128 + the signal, as a shell reports it.
+    if (int sig = interrupt_signal()) return 128 + sig;
     return 0;
 }
 
@@ -298,7 +331,10 @@ Subcommand add_render(CLI::App& app) {
         ->capture_default_str()
         ->group("Debugging");
     c->add_flag("-q,--quiet", args->quiet,
-                "No progress line, summary or profile table (errors and NaN warnings only)");
+                "No progress line or summary (errors and NaN warnings only)");
+    c->add_flag("--stats", args->stats,
+                "Print the per-stage kernel profile table (device times per stage, ms/spp, "
+                "Mrays/s) after the summary");
     c->add_flag("-v,--verbose", args->verbose,
                 "Print the device, scene statistics and kernel options before rendering");
     s.run = [args]() -> int { return run_render(*args); };

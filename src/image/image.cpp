@@ -82,7 +82,31 @@ double srgb_decode(double encoded) {
 
 bool is_supported_image_path(const fs::path& path) { return format_of(path) != Format::unknown; }
 
-void write_image(const fs::path& path, const Image& image) {
+namespace {
+
+void add_attributes(OIIO::ImageSpec& spec, const std::vector<ImageAttribute>& attributes) {
+    for (const auto& a : attributes) {
+        if (a.integer)
+            spec.attribute(a.name, std::stoi(a.value));
+        else
+            spec.attribute(a.name, a.value);
+    }
+}
+
+}  // namespace
+
+std::optional<std::string> read_image_attribute(const fs::path& path, const std::string& name) {
+    auto in = OIIO::ImageInput::open(path.string());
+    if (!in) fail("cannot read '{}': {}", path.string(), trimmed(OIIO::geterror()));
+    const OIIO::ParamValue* p = in->spec().find_attribute(name);
+    std::optional<std::string> v;
+    if (p) v = p->get_string();
+    in->close();
+    return v;
+}
+
+void write_image(const fs::path& path, const Image& image,
+                 const std::vector<ImageAttribute>& attributes) {
     Format format = format_of(path);
     if (format == Format::unknown)
         fail("cannot write '{}': unknown image extension '{}' (supported: .exr, .png, .jpg, .jpeg)",
@@ -98,6 +122,7 @@ void write_image(const fs::path& path, const Image& image) {
             OIIO::ImageSpec spec(image.width, image.height, 3, OIIO::TypeDesc::FLOAT);
             spec.attribute("oiio:ColorSpace", "Linear");
             spec.attribute("compression", "zip");
+            add_attributes(spec, attributes);
             write_with_oiio(path, tmp, spec, OIIO::TypeDesc::FLOAT, image.rgb.data());
             return;
         }
@@ -105,6 +130,7 @@ void write_image(const fs::path& path, const Image& image) {
         std::transform(image.rgb.begin(), image.rgb.end(), codes.begin(), srgb_code);
         OIIO::ImageSpec spec(image.width, image.height, 3, OIIO::TypeDesc::UINT8);
         spec.attribute("oiio:ColorSpace", "sRGB");
+        add_attributes(spec, attributes);
         if (format == Format::jpeg) spec.attribute("Compression", "jpeg:95");
         write_with_oiio(path, tmp, spec, OIIO::TypeDesc::UINT8, codes.data());
     });

@@ -9,6 +9,7 @@
 #pragma once
 
 #include <filesystem>
+#include <optional>
 #include <string>
 #include <utility>
 #include <vector>
@@ -28,9 +29,23 @@ struct Image {
     }
 };
 
+// Metadata stored in the file's header (EXR attributes; PNG/JPEG text where the format
+// keeps it): name and value, an integer when `integer` is set (e.g. "wavepath:spp").
+struct ImageAttribute {
+    std::string name;
+    std::string value;
+    bool integer = false;
+};
+
 // Throws wp::Error naming the path when the extension is unknown, the folder is missing
 // or not writable, or the writer fails.
-void write_image(const std::filesystem::path& path, const Image& image);
+void write_image(const std::filesystem::path& path, const Image& image,
+                 const std::vector<ImageAttribute>& attributes = {});
+
+// The header attribute `name` of an image file as text, or nothing when the file has none.
+// Throws wp::Error naming a missing or unreadable file.
+std::optional<std::string> read_image_attribute(const std::filesystem::path& path,
+                                                const std::string& name);
 
 // True when write_image supports the extension of `path` (.exr, .png, .jpg, .jpeg).
 bool is_supported_image_path(const std::filesystem::path& path);

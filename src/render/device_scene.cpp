@@ -1,10 +1,12 @@
 #include "render/device_scene.h"
 
 #include <algorithm>
+#include <optional>
 
 #include "bvh/build.h"
 #include "bvh/flatten.h"
 #include "scene/upload.h"
+#include "util/host_trace.h"
 #include "util/timer.h"
 
 namespace wp::render {
@@ -13,9 +15,11 @@ DeviceScene DeviceScene::upload(const ocl::Device& dev, const Scene& scene, cons
                                 int width, int height, bool jitter) {
     DeviceScene d;
     Timer timer;
+    std::optional<HostSpan> span(std::in_place, "bvh");
     auto boxes = bvh::triangle_boxes(scene.positions, scene.triangles);
     bvh::Bvh bvh = bvh::build(boxes);
     bvh::FlatBvh flat = bvh::flatten(bvh, scene.positions, scene.triangles);
+    span.emplace("upload");  // ends the BVH's span
     SceneUpload up = upload_scene(scene);
     d.camera = upload_camera(scene.camera, width, height, jitter);
 

@@ -14,9 +14,14 @@ LoopResult render_frames(Wavefront& wf, const LoopOptions& options, Progress* pr
     const int start = wf.frames();
     const int per_wave = std::max(1, wf.passes_per_wave());
     while (wf.frames() - start < options.spp) {
-        const int done = wf.frames() - start;
+        const int done = wf.frames() - start;  // before this step
         const int k = std::min({per_wave, std::max(1, done), options.spp - done});
-        wf.render_passes(k);
+        // Progress within the step: after each wave (several per pass when the image is
+        // larger than the pool), so the line moves at least once a second.
+        const double step_start = render_s();
+        wf.render_passes(k, [&](double part) {
+            if (progress && progress->due()) progress->update(wf.frames() + part, wf.rays_traced());  // frames(): before this step
+        });
         // Checkpoint (film reads, error metrics): its time is not render time.
         if (options.checkpoint && options.checkpoint_due &&
             options.checkpoint_due(wf.frames(), render_s())) {
@@ -26,9 +31,17 @@ LoopResult render_frames(Wavefront& wf, const LoopOptions& options, Progress* pr
             options.checkpoint(wf.frames(), at);
             paused_s += pause.seconds();
         }
-        // The profile keeps a bounded summary: fold the finished launches into it.
+        // The profile keeps a bounded summary: fold the finished launches into it (this waits
+        // for the step, so its time below is the step's).
         wf.profiler().resolve();
+        if (progress) progress->step(k, render_s() - step_start);
         if (progress && progress->due()) progress->update(wf.frames(), wf.rays_traced());
+        // A stop request (Ctrl-C): the step just enqueued completes, so the film holds whole
+        // passes.
+        if (options.should_stop && wf.frames() - start < options.spp && options.should_stop()) {
+            res.interrupted = true;
+            break;
+        }
         // Stop at the time budget once the samples just enqueued are done.
         if (options.time_limit_s > 0.0 && render_s() >= options.time_limit_s &&
             wf.frames() - start < options.spp) {

@@ -6,7 +6,10 @@
 // step are 1, 2, 4, 8, ... (then multiples of the wave), and short renders, progress lines
 // and checkpoints keep a fine grain while long ones fill the pool. The image does not
 // depend on the steps (render/wavefront.h). No buffer is read inside the loop except the
-// 8-byte ray total, and only when the progress line is due.
+// 8-byte ray total, and only when the progress line is due: after each step and after each
+// wave inside it (Wavefront::render_passes' callback), so an image larger than the pool,
+// whose one pass is many waves, still shows fractional progress. Each step's time goes to
+// Progress::step for the ETA.
 //
 // Checkpoints: when LoopOptions::checkpoint_due(frames, seconds) says so (after a step is
 // enqueued; `frames` = samples per pixel so far), the loop calls checkpoint(frames,
@@ -29,6 +32,9 @@ struct LoopOptions {
     // Optional checkpoint hook; `seconds` is render time so far (checkpoints excluded).
     std::function<bool(int frames, double seconds)> checkpoint_due;
     std::function<void(int frames, double seconds)> checkpoint;
+    // Optional stop request (e.g. the first Ctrl-C), asked after each step: the loop then ends
+    // with the film holding whole passes (LoopResult::interrupted).
+    std::function<bool()> should_stop;
 };
 
 struct LoopResult {
@@ -36,6 +42,7 @@ struct LoopResult {
     double wall_s = 0.0;    // wall time of the whole loop
     double render_s = 0.0;  // wall time less the time spent in checkpoints
     bool stopped_by_time = false;
+    bool interrupted = false;  // should_stop said so before --spp was reached
 };
 
 LoopResult render_frames(Wavefront& wf, const LoopOptions& options, Progress* progress);

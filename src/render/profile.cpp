@@ -73,24 +73,55 @@ nlohmann::json profile_json(const ProfileSummary& p) {
     return j;
 }
 
-nlohmann::json chrome_trace(const std::vector<ocl::LaunchRecord>& records, std::size_t dropped) {
-    std::uint64_t t0 = UINT64_MAX;
-    for (const auto& r : records) t0 = std::min(t0, r.start_ns);
+std::int64_t device_clock_offset_ns(ocl::Device& dev) {
+    try {
+        dev.queue.finish();
+        ::cl::Event ev;
+        const std::uint64_t h0 = steady_ns();
+        dev.queue.enqueueMarkerWithWaitList(nullptr, &ev);
+        dev.queue.finish();
+        const std::uint64_t h1 = steady_ns();
+        const auto d = ev.getProfilingInfo<CL_PROFILING_COMMAND_END>();
+        return static_cast<std::int64_t>(d) - static_cast<std::int64_t>(h0 + (h1 - h0) / 2);
+    } catch (const ::cl::Error&) {
+        return 0;
+    }
+}
+
+nlohmann::json chrome_trace(const std::vector<ocl::LaunchRecord>& records, std::size_t dropped,
+                            const std::vector<HostEvent>& host, std::int64_t host_offset_ns) {
+    auto on_device = [&](std::uint64_t host_ns) {
+        return static_cast<std::int64_t>(host_ns) + host_offset_ns;
+    };
+    std::int64_t t0 = INT64_MAX;
+    for (const auto& r : records) t0 = std::min(t0, static_cast<std::int64_t>(r.start_ns));
+    for (const auto& h : host) t0 = std::min(t0, on_device(h.start_ns));
+    if (t0 == INT64_MAX) t0 = 0;
     auto events = nlohmann::json::array();
     events.push_back({{"name", "process_name"}, {"ph", "M"}, {"pid", 1},
                       {"args", {{"name", "wavepath device"}}}});
     events.push_back({{"name", "thread_name"}, {"ph", "M"}, {"pid", 1}, {"tid", 1},
-                      {"args", {{"name", "queue"}}}});
+                      {"args", {{"name", "device queue"}}}});
+    events.push_back({{"name", "thread_name"}, {"ph", "M"}, {"pid", 1}, {"tid", 2},
+                      {"args", {{"name", "host"}}}});
     for (const auto& r : records) {
         events.push_back({{"name", r.name},
                           {"cat", "kernel"},
                           {"ph", "X"},
                           {"pid", 1},
                           {"tid", 1},
-                          {"ts", (r.start_ns - t0) * 1e-3},
+                          {"ts", (static_cast<std::int64_t>(r.start_ns) - t0) * 1e-3},
                           {"dur", (r.end_ns - r.start_ns) * 1e-3},
                           {"args", {{"wave", r.wave}}}});
     }
+    for (const auto& h : host)
+        events.push_back({{"name", h.name},
+                          {"cat", "host"},
+                          {"ph", "X"},
+                          {"pid", 1},
+                          {"tid", 2},
+                          {"ts", (on_device(h.start_ns) - t0) * 1e-3},
+                          {"dur", (h.end_ns - h.start_ns) * 1e-3}});
     return {{"traceEvents", events},
             {"displayTimeUnit", "ms"},
             {"otherData", {{"launches_not_recorded", dropped}}}};

@@ -14,7 +14,9 @@
 
 #include <nlohmann/json.hpp>
 
+#include "cl/device.h"
 #include "cl/profiler.h"
+#include "util/host_trace.h"
 
 namespace wp::render {
 
@@ -47,9 +49,18 @@ std::string format_profile_table(const ProfileSummary& p);
 nlohmann::json profile_json(const ProfileSummary& p);
 
 // Chrome trace-event JSON (Perfetto, chrome://tracing): one complete event ("ph": "X") per
-// recorded launch on one track, times in microseconds from the first launch; `dropped`
-// launches past the profiler's record limit are noted in the metadata.
-nlohmann::json chrome_trace(const std::vector<ocl::LaunchRecord>& records, std::size_t dropped = 0);
+// recorded launch on track (tid) 1 "device queue" (cat "kernel"), and one per host span
+// (util/host_trace.h: load, device, bvh, upload, programs, resolve, write) on track 2 "host" (cat
+// "host"), shifted onto the device clock by `host_offset_ns` (device_clock_offset_ns());
+// times in microseconds from the earliest event; `dropped` launches past the profiler's
+// record limit are noted in the metadata.
+nlohmann::json chrome_trace(const std::vector<ocl::LaunchRecord>& records, std::size_t dropped = 0,
+                            const std::vector<HostEvent>& host = {}, std::int64_t host_offset_ns = 0);
+
+// Device profiling clock minus the host's steady clock, in nanoseconds, measured once with a
+// marker: its end time against the host time halfway between enqueue and finish (0 when the
+// device does not time markers).
+std::int64_t device_clock_offset_ns(ocl::Device& dev);
 
 // "out/prof.json" -> "out/prof.trace.json"
 std::filesystem::path trace_path_for(const std::filesystem::path& profile_path);

@@ -18,6 +18,12 @@ std::string format_duration(double s) {
     return fmt::format("{}h{:02d}m", t / 3600, (t / 60) % 60);
 }
 
+std::string format_spp(double spp) {
+    if (spp == static_cast<double>(static_cast<long long>(spp)))
+        return fmt::format("{}", static_cast<long long>(spp));
+    return fmt::format("{:.2f}", spp);
+}
+
 }  // namespace
 
 Progress::Progress(int total_samples, double time_limit_s, bool enabled)
@@ -26,21 +32,33 @@ Progress::Progress(int total_samples, double time_limit_s, bool enabled)
 
 bool Progress::due() const {
     if (!enabled_) return false;
-    return timer_.seconds() - last_print_s_ >= (tty_ ? 0.125 : 2.0);
+    return timer_.seconds() - last_print_s_ >= (tty_ ? 0.125 : 1.0);
 }
 
-std::string Progress::line(int done, std::uint64_t rays) const {
+void Progress::step(double spp, double seconds) {
+    if (steps_seen_++ == 0) return;  // the first step includes the JIT
+    recent_.emplace_back(spp, seconds);
+    if (recent_.size() > kAverageSteps) recent_.pop_front();
+}
+
+std::string Progress::line(double done, std::uint64_t rays) const {
     double el = timer_.seconds();
     double eta = done > 0 ? el / done * (total_ - done) : 1e30;
+    double avg_spp = 0.0, avg_s = 0.0;
+    for (const auto& [spp, sec] : recent_) {
+        avg_spp += spp;
+        avg_s += sec;
+    }
+    if (avg_spp > 0.0) eta = avg_s / avg_spp * std::max(0.0, total_ - done);
     if (time_limit_s_ > 0.0) eta = std::min(eta, std::max(0.0, time_limit_s_ - el));
     double mrays = el > 0.0 ? rays / el * 1e-6 : 0.0;
     return fmt::format("render: {}/{} spp ({:3.0f}%)  elapsed {}  ETA {}  {:.1f} Mrays/s{}{}",
-                       done, total_, 100.0 * done / std::max(total_, 1), format_duration(el),
+                       format_spp(done), total_, 100.0 * done / std::max(total_, 1), format_duration(el),
                        done > 0 || time_limit_s_ > 0.0 ? format_duration(eta) : "?", mrays,
                        note_.empty() ? "" : "  ", note_);
 }
 
-void Progress::update(int done, std::uint64_t rays) {
+void Progress::update(double done, std::uint64_t rays) {
     if (!due()) return;
     last_print_s_ = timer_.seconds();
     if (tty_)
@@ -51,12 +69,14 @@ void Progress::update(int done, std::uint64_t rays) {
     printed_ = true;
 }
 
-void Progress::finish(int done, std::uint64_t rays) {
+void Progress::finish(double done, std::uint64_t rays, bool interrupted) {
     if (!enabled_) return;
+    std::string l = line(done, rays);
+    if (interrupted) l += fmt::format("  (interrupted at {} spp)", format_spp(done));
     if (tty_)
-        fmt::print(stderr, "\r{}\x1b[K\n", line(done, rays));
+        fmt::print(stderr, "\r{}\x1b[K\n", l);
     else
-        fmt::print(stderr, "{}\n", line(done, rays));
+        fmt::print(stderr, "{}\n", l);
     std::fflush(stderr);
 }
 

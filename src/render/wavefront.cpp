@@ -3,6 +3,7 @@
 #include <algorithm>
 
 #include "util/error.h"
+#include "util/host_trace.h"
 #include "util/timer.h"
 
 namespace wp::render {
@@ -40,6 +41,7 @@ Wavefront::Wavefront(ocl::Device& dev, const Scene& scene, const RenderSettings&
 
     // Programs (disk-cached), one per stage, each with its slice of the configuration.
     Timer prog_timer;
+    HostSpan span("programs");
     queues_ = QueueUpkeep(dev, &profiler_);
     generate_ = GenerateStage(dev, config_, &profiler_);
     intersect_ = IntersectStage(dev, settings.traversal, &profiler_);
@@ -70,7 +72,7 @@ void Wavefront::reset(std::uint32_t seed) {
     dev_.queue.finish();
 }
 
-void Wavefront::render_passes(int passes) {
+void Wavefront::render_passes(int passes, const std::function<void(double)>& on_wave) {
     const int n = pixel_count();
     const int per_wave = passes_per_wave();
     int done = 0;
@@ -81,13 +83,16 @@ void Wavefront::render_passes(int passes) {
             int k = std::min(per_wave, passes - done);
             run_wave(0, sample, k * n);
             done += k;
+            if (on_wave) on_wave(done);
         } else {
             // One pass in chunks of the pool's capacity, none straddling two film segments.
             const auto chunk = pool_.capacity();
             for (const FilmSegment& seg : film_.segments)
-                for (std::size_t first = seg.first; first < seg.first + seg.size; first += chunk)
-                    run_wave(static_cast<int>(first), sample,
-                             static_cast<int>(std::min(chunk, seg.first + seg.size - first)));
+                for (std::size_t first = seg.first; first < seg.first + seg.size; first += chunk) {
+                    const auto count = std::min(chunk, seg.first + seg.size - first);
+                    run_wave(static_cast<int>(first), sample, static_cast<int>(count));
+                    if (on_wave) on_wave(done + double(first + count) / double(n));
+                }
             done += 1;
         }
     }

@@ -26,6 +26,7 @@
 
 #include <array>
 #include <cstdint>
+#include <functional>
 #include <string>
 
 #include <CL/opencl.hpp>
@@ -76,7 +77,10 @@ class Wavefront {
 
     // Enqueues `passes` more samples of every pixel, in waves; returns once the last wave is
     // enqueued (it may still run; the queue is in order, so a later read sees it).
-    void render_passes(int passes);
+    // `on_wave`, when given, is called after each wave is enqueued with the passes of this
+    // call enqueued so far (fractional when one pass takes several waves, e.g. 0.25), so a
+    // caller can report progress within a pass of an image larger than the pool.
+    void render_passes(int passes, const std::function<void(double passes_done)>& on_wave = {});
     // Whole passes one wave holds (0 when one pass takes several waves).
     int passes_per_wave() const;
 
