@@ -1,5 +1,6 @@
 #!/usr/bin/env bash
-# Installs wavepath's build and test dependencies from Debian packages.
+# Installs wavepath's build and test dependencies from Debian packages, and what the plot
+# scripts in scripts/ import (python3-matplotlib, python3-numpy).
 # Idempotent: installs only what is missing. Works as root or through sudo.
 set -euo pipefail
 
@@ -9,6 +10,7 @@ packages=(
   libglm-dev libopenimageio-dev catch2 libtinyobjloader-dev
   nlohmann-json3-dev libcli11-dev libfmt-dev libembree-dev oclgrind
   libassimp-dev libpugixml-dev libtinygltf-dev clang libclang-rt-14-dev
+  python3-matplotlib python3-numpy
 )
 
 missing=()

@@ -18,6 +18,7 @@
 
 #include <nlohmann/json.hpp>
 #include "temp_dir.h"
+#include "util/limits.h"
 
 namespace fs = std::filesystem;
 
@@ -158,6 +159,26 @@ TEST_CASE("json CLI: the file's spp, depth and seed apply; the command line beat
     CHECK(cli["seed"] == 4);
     CHECK(cli["width"] == 10);
     CHECK(cli["height"] == 4);
+}
+
+TEST_CASE("json CLI: a scene file without a depth gets kDefaultSceneDepth, a built-in scene 3",
+          "[scene][json][cli]") {
+    TempDir d;
+    d.write("s.json", tiny());
+    // A one-triangle OBJ with an emitting material: a mesh file, no depth of its own.
+    d.write("m.obj", "mtllib m.mtl\nv 0 0 0\nv 1 0 0\nv 0 1 0\nusemtl lamp\nf 1 2 3\n");
+    d.write("m.mtl", "newmtl lamp\nKd 0.5 0.5 0.5\nKe 1 1 1\n");
+    auto depth = [&](const std::string& args) {
+        Run r = run_cli(d, args + " --size 8x6 --spp 1 -q -o out.exr --profile p.json");
+        INFO(r.err);
+        REQUIRE(r.status == 0);
+        return nlohmann::json::parse(std::ifstream(d.path / "p.json"))["settings"]["depth"];
+    };
+    CHECK(depth("s.json") == wp::limits::kDefaultSceneDepth);
+    CHECK(depth("m.obj") == wp::limits::kDefaultSceneDepth);
+    CHECK(depth("builtin:cornell-box") == wp::limits::kDefaultDepth);
+    CHECK(depth("s.json --depth 2") == 2);
+    static_assert(wp::limits::kDefaultDepth == 3, "the benchmarks' workload stays depth 3");
 }
 
 TEST_CASE("json CLI: wavepath render scenes/cornell-box.json from the repository root",

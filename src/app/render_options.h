@@ -44,6 +44,8 @@ render::RenderSettings make_settings(const ConfigArgs& a, const Scene& scene);
 // of the render tests (emission 0.5, albedo 0.6) for "builtin:closed-box-furnace", the
 // MIS test scene for "builtin:veach-plates", else the scene file (scene/load.h). Prints
 // the load report (scene/load.h: describe_scene) and the warnings to stderr unless quiet.
+// A scene file without a depth of its own gets render.depth = limits::kDefaultSceneDepth;
+// the built-in scenes leave it unset (--depth's default, limits::kDefaultDepth, applies).
 Scene load_scene(const std::string& arg, bool quiet = false);
 
 // The one-line list of what `load_scene` accepts, for --help texts.

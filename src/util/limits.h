@@ -21,7 +21,11 @@ constexpr int kDefaultSpp = 64;
 // group, 32 bits) far from overflow.
 constexpr int kMinDepth = 0;
 constexpr int kMaxDepth = 1 << 20;
-constexpr int kDefaultDepth = 3;  // the original program's workload
+constexpr int kDefaultDepth = 3;  // the built-in scenes: the original program's workload
+// A scene file (mesh, .json, .xml) that sets no depth of its own: enough bounces that the
+// missing light is below the noise at 64 spp; Russian roulette from bounce 3 keeps the
+// extra bounces cheap (measured in docs/sampling.md, "The default depth").
+constexpr int kDefaultSceneDepth = 5;
 
 // Image size: each side 1..kMaxImageSide pixels, at most kMaxPixels pixels (16384^2).
 constexpr int kMaxImageSide = 16384;
