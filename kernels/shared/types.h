@@ -176,6 +176,85 @@ typedef struct MaterialData {
     int pad;          // 0
 } MaterialData;
 
+// ===================================================================================
+// Appearance data (issue 13): uploaded only for scenes that have it (render/device_scene,
+// KernelConfig WP_HAVE_NORMALS / _TEXTURES / _NORMAL_MAPS / _ALPHA_MASK / _ENV); absent
+// features get 4-byte placeholders and their code is not compiled.
+// ===================================================================================
+
+// Shading normals of one triangle at its three vertices, scene order. 48 bytes.
+typedef struct TriNormals {
+    float4 n0;  // xyz: shading normal at vertex 0 (need not be unit; zero: none, the
+                // triangle shades with its geometric normal); w: 0
+    float4 n1;  // same at vertex 1
+    float4 n2;  // same at vertex 2
+} TriNormals;
+
+// Texture coordinates of one triangle, scene order (convention: scene.h TextureRef). 32 bytes.
+typedef struct TriUVs {
+    float4 uv01;  // (u0, v0, u1, v1)
+    float4 uv2;   // (u2, v2, 0, 0)
+} TriUVs;
+
+// Tangents of one triangle at its three vertices, scene order (normal maps). 48 bytes.
+typedef struct TriTangents {
+    float4 t0;  // xyz: tangent at vertex 0 (direction of +u); w: ±1, bitangent = w cross(n, t)
+    float4 t1;
+    float4 t2;
+} TriTangents;
+
+// Texel formats of TextureData.format.
+#define WP_TEXEL_SRGB8 0    // texels8 pool: RGBA8 in one uint (R in the low byte), sRGB-encoded
+#define WP_TEXEL_LINEAR8 1  // texels8 pool: RGBA8, linear (normal, roughness and alpha maps)
+#define WP_TEXEL_FLOAT 2    // texelsf pool: float4 RGBA, linear
+
+// One mip-mapped image in a texel pool. 32 bytes. Level l is max(1, width >> l) x
+// max(1, height >> l) texels, row-major from the top row, and follows level l - 1.
+typedef struct TextureData {
+    int offset;   // first texel of level 0 in its pool
+    int width;    // of level 0
+    int height;   // of level 0
+    int levels;   // mip levels, >= 1 (1 for nearest)
+    int format;   // WP_TEXEL_*
+    int nearest;  // 1: the nearest texel of level 0, no filtering
+    int pad0;     // 0
+    int pad1;     // 0
+} TextureData;
+
+// A material's use of an image: the image and an affine uv map. 48 bytes.
+typedef struct TextureView {
+    float4 u_row;  // xyz: u' = u_row.x u + u_row.y v + u_row.z; w: 0
+    float4 v_row;  // xyz: v' = v_row.x u + v_row.y v + v_row.z; w: 0
+    int texture;   // index into the TextureData array
+    int pad0;      // 0
+    int pad1;      // 0
+    int pad2;      // 0
+} TextureView;
+
+// The textures of one material, indices into the TextureView array, -1 for none. 32 bytes.
+typedef struct MaterialTextures {
+    int albedo;          // RGB × albedo
+    int roughness;       // α × G²
+    int emission;        // RGB × emission
+    int normal;          // tangent-space normal map
+    int alpha;           // coverage: A × alpha_factor < alpha_cutoff cuts the surface out
+    float alpha_cutoff;  // glTF alphaCutoff (0.5 by default); 0 when there is no mask
+    float alpha_factor;  // multiplies the coverage (glTF baseColorFactor.a)
+    float normal_scale;  // scales the map's xy (glTF normalTexture.scale)
+} MaterialTextures;
+
+// The environment light (kernels/shared/envmap.h). 80 bytes.
+typedef struct EnvData {
+    float4 to_local0;  // xyz: rows of the rotation world -> map frame; w: 0
+    float4 to_local1;
+    float4 to_local2;
+    float4 scale;      // xyz: radiance multiplier per channel; w: 0
+    int texture;       // index into the TextureData array (level 0 is read)
+    int width;         // of the map
+    int height;
+    int pad;           // 0
+} EnvData;
+
 // One path in flight, stored in a queue slot next to its ray. 32 bytes. Its results go to
 // the radiance slot of its sample (`item`), never to the queue slot, so the image does not
 // depend on the order in which paths were pushed. Every path of a queue is at the same

@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include <glm/gtc/constants.hpp>
+#include <glm/matrix.hpp>
 #include <glm/trigonometric.hpp>
 
 #include "util/error.h"
@@ -66,11 +67,35 @@ Aabb Scene::bounds() const {
     return b;
 }
 
+namespace {
+
+// Brings an optional per-vertex attribute of a scene with `old_count` vertices to
+// `old_count + added` entries: `src` when given (size `added`), else fill; when the scene
+// had none and the new part has none, it stays empty.
+template <class T>
+void append_attribute(std::vector<T>& dst, std::size_t old_count, const std::vector<T>& src,
+                      std::size_t added, const char* what) {
+    if (!src.empty() && src.size() != added)
+        fail("add_mesh: {} {} for {} vertices", src.size(), what, added);
+    if (dst.empty() && src.empty()) return;
+    dst.resize(old_count, T(0.0f));
+    if (src.empty())
+        dst.resize(old_count + added, T(0.0f));
+    else
+        dst.insert(dst.end(), src.begin(), src.end());
+}
+
+}  // namespace
+
 std::size_t Scene::add_mesh(const std::vector<glm::vec3>& pos, const std::vector<glm::uvec3>& tris,
-                            std::uint32_t material) {
+                            std::uint32_t material, const std::vector<glm::vec3>& nrm,
+                            const std::vector<glm::vec2>& uv, const std::vector<glm::vec4>& tan) {
     if (material >= materials.size()) fail("add_mesh: material {} does not exist", material);
     auto base = static_cast<std::uint32_t>(positions.size());
     std::size_t first = triangles.size();
+    append_attribute(normals, base, nrm, pos.size(), "normals");
+    append_attribute(uvs, base, uv, pos.size(), "uvs");
+    append_attribute(tangents, base, tan, pos.size(), "tangents");
     positions.insert(positions.end(), pos.begin(), pos.end());
     for (const auto& t : tris) {
         triangles.push_back(t + glm::uvec3(base));
@@ -90,13 +115,32 @@ void Scene::append(const Scene& src, const glm::mat4& to_world,
         fail("append: material {} does not exist", *material);
     std::vector<std::uint32_t> remap;
     if (!material) {
+        const int image_base = static_cast<int>(textures.size());
+        textures.insert(textures.end(), src.textures.begin(), src.textures.end());
         remap.reserve(src.materials.size());
-        for (const auto& m : src.materials) remap.push_back(add_material(m));
+        for (Material m : src.materials) {
+            for (TextureRef* r : {&m.albedo_map, &m.roughness_map, &m.emission_map, &m.normal_map,
+                                  &m.alpha_map})
+                if (r->used()) r->image += image_base;
+            remap.push_back(add_material(m));
+        }
     }
     auto base = static_cast<std::uint32_t>(positions.size());
-    positions.reserve(positions.size() + src.positions.size());
-    for (const auto& p : src.positions) positions.push_back(glm::vec3(to_world * glm::vec4(p, 1.0f)));
-    bool mirror = glm::determinant(glm::mat3(to_world)) < 0.0f;
+    const glm::mat3 linear(to_world);
+    const glm::mat3 normal_matrix = glm::transpose(glm::inverse(linear));
+    std::vector<glm::vec3> pos, nrm;
+    std::vector<glm::vec4> tan;
+    pos.reserve(src.positions.size());
+    for (const auto& p : src.positions) pos.push_back(glm::vec3(to_world * glm::vec4(p, 1.0f)));
+    nrm.reserve(src.normals.size());
+    for (const auto& n : src.normals) nrm.push_back(normal_matrix * n);
+    tan.reserve(src.tangents.size());
+    for (const auto& t : src.tangents) tan.push_back(glm::vec4(linear * glm::vec3(t), t.w));
+    append_attribute(normals, base, nrm, pos.size(), "normals");
+    append_attribute(uvs, base, src.uvs, pos.size(), "uvs");
+    append_attribute(tangents, base, tan, pos.size(), "tangents");
+    positions.insert(positions.end(), pos.begin(), pos.end());
+    bool mirror = glm::determinant(linear) < 0.0f;
     triangles.reserve(triangles.size() + src.triangles.size());
     for (std::size_t i = 0; i < src.triangles.size(); ++i) {
         glm::uvec3 t = src.triangles[i] + glm::uvec3(base);

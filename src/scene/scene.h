@@ -43,6 +43,32 @@ bool uses_ior(MaterialKind k);
 // same bits). The one host conversion; the device's inverse is materials/glossy.h.
 inline float phong_exponent_to_alpha(float e) { return std::sqrt(2.0f / (e + 2.0f)); }
 
+// A texture image (also an environment map): RGBA texels, row 0 at the top.
+// Loaders fill it through scene/texture.h (OpenImageIO) or procedurally; scene/upload turns
+// it into mip levels on the device (kernels/shared/texture.h).
+struct Texture {
+    std::string source;  // the file (or procedural name) it came from, for messages
+    int width = 0, height = 0;
+    // Exactly one of the two is filled, width * height * 4 values:
+    std::vector<std::uint8_t> texels8;  // 8-bit RGBA (PNG, JPEG, TGA, ...)
+    std::vector<float> texelsf;         // float RGBA (EXR, HDR), linear, as in the file
+    bool srgb = false;      // texels8 are sRGB-encoded (decoded to linear before filtering)
+    bool nearest = false;   // nearest-texel lookups, no mip maps (Mitsuba filter_type
+                            // "nearest", checkerboards); else bilinear with mip maps
+    bool is_float() const { return !texelsf.empty(); }
+};
+
+// A texture as a material slot uses it: an image and an affine map of the surface's uv
+// (KHR_texture_transform, Mitsuba to_uv) applied as uv' = uv_transform * (u, v, 1).
+// uv convention everywhere in wavepath: (0, 0) is the image's top-left corner, u to the
+// right, v down (glTF's and Mitsuba 3's); loaders of v-up formats (OBJ, PLY) store 1 - v.
+// Repeat wrapping in both directions.
+struct TextureRef {
+    int image = -1;                  // index into Scene::textures; -1: no texture
+    glm::mat3 uv_transform{1.0f};    // column-major, last row (0, 0, 1)
+    bool used() const { return image >= 0; }
+};
+
 // A material as the user gave it; scene/upload turns it into MaterialData, keeping only
 // the parameters its kind reads (material_kinds.h).
 struct Material {
@@ -53,6 +79,24 @@ struct Material {
     // GGX roughness α in (0, 1] (kinds with ALPHA: glossy); default: Phong exponent 100.
     float alpha = phong_exponent_to_alpha(100.0f);
     float ior = 1.5f;          // index of refraction inside / outside (front side), Glass only
+    // Textures (kernels/shared/texture.h); each multiplies the constant it names:
+    TextureRef albedo_map;     // RGB × albedo (diffuse colour, glossy/mirror F0 or tint)
+    TextureRef roughness_map;  // α × G² (glTF metallicRoughness: G is perceptual roughness;
+                               // α = (factor · G)², with alpha = factor²); kinds with ALPHA
+    TextureRef emission_map;   // RGB × emission (emissive only where emission > 0)
+    TextureRef normal_map;     // tangent-space normal, RGB in [0, 1] -> [-1, 1]
+                               // (glTF normalTexture, OBJ norm/map_Bump); xy × normal_scale
+    float normal_scale = 1.0f;
+    // Alpha cut-out (glTF alphaMode MASK, MTL map_d): where the coverage is below
+    // alpha_cutoff the surface is not there for any ray. Coverage = A of alpha_map
+    // (times alpha_factor), else 1.
+    TextureRef alpha_map;
+    float alpha_factor = 1.0f;
+    float alpha_cutoff = 0.5f;
+    bool textured() const {
+        return albedo_map.used() || roughness_map.used() || emission_map.used() ||
+               normal_map.used() || alpha_map.used();
+    }
     bool emissive() const { return emission.x > 0.0f || emission.y > 0.0f || emission.z > 0.0f; }
 };
 
@@ -73,9 +117,26 @@ struct RenderDefaults {
     std::optional<std::uint32_t> seed;
 };
 
+// Light from infinitely far away in every direction: an equirectangular (latitude-longitude)
+// map, times scale, turned by to_world; the direction-to-texel mapping is Mitsuba 3's
+// envmap (kernels/shared/envmap.h). Sampled by importance, combined with BSDF sampling by MIS.
+struct Environment {
+    int image = -1;                // index into Scene::textures (float or 8-bit)
+    float scale = 1.0f;            // radiance multiplier
+    glm::mat3 to_world{1.0f};      // rotation of the map (columns: its axes in the world)
+};
+
 struct Scene {
     std::string name;                   // for reports: file name or "cornell-box"
     std::vector<glm::vec3> positions;   // vertex positions (world units)
+    // Per-vertex attributes, each either empty or one per position:
+    std::vector<glm::vec3> normals;     // shading normals (need not be unit; a zero vector:
+                                        // this vertex has none, the triangle shades flat)
+    std::vector<glm::vec2> uvs;         // texture coordinates (convention at TextureRef)
+    std::vector<glm::vec4> tangents;    // xyz: tangent (direction of +u), w: ±1 bitangent
+                                        // sign (glTF/MikkTSpace: b = w · cross(n, t))
+    std::vector<Texture> textures;      // texture images and environment maps
+    std::optional<Environment> environment;
     std::vector<glm::uvec3> triangles;  // vertex indices, counter-clockwise = front
     std::vector<std::uint32_t> material_ids;  // one per triangle
     std::vector<Material> materials;
@@ -88,14 +149,21 @@ struct Scene {
 
     std::size_t triangle_count() const { return triangles.size(); }
     Aabb bounds() const;
-    // Appends a mesh with one material; returns the first new triangle's index.
+    // Appends a mesh with one material; returns the first new triangle's index. The
+    // optional attributes are empty or one per entry of `pos`; where this scene or the mesh
+    // lacks an attribute the other has, it is filled with zero normals / (0, 0) uvs /
+    // zero tangents.
     std::size_t add_mesh(const std::vector<glm::vec3>& pos, const std::vector<glm::uvec3>& tris,
-                         std::uint32_t material);
+                         std::uint32_t material, const std::vector<glm::vec3>& normals = {},
+                         const std::vector<glm::vec2>& uvs = {},
+                         const std::vector<glm::vec4>& tangents = {});
     std::uint32_t add_material(const Material& m);
     // Appends every triangle of `src` with its positions transformed as points by
     // `to_world` (a mirroring transform also reverses the winding, so the front stays the
     // front). Materials: `material` when given, else src's own materials (appended, ids
-    // remapped). src's warnings are appended too; its camera and background are ignored.
+    // remapped, with their textures appended too). Normals are transformed by the inverse
+    // transpose, tangents as vectors; attributes one side lacks are filled as in add_mesh.
+    // src's warnings are appended too; its camera, background and environment are ignored.
     void append(const Scene& src, const glm::mat4& to_world,
                 std::optional<std::uint32_t> material = std::nullopt);
 };
