@@ -243,16 +243,17 @@ typedef struct MaterialTextures {
     float normal_scale;  // scales the map's xy (glTF normalTexture.scale)
 } MaterialTextures;
 
-// The environment light (kernels/shared/envmap.h). 80 bytes.
+// The environment light (kernels/shared/envmap.h): its map has its own float4 texel
+// array and sampling tables, not the texture pools. 80 bytes.
 typedef struct EnvData {
     float4 to_local0;  // xyz: rows of the rotation world -> map frame; w: 0
     float4 to_local1;
     float4 to_local2;
     float4 scale;      // xyz: radiance multiplier per channel; w: 0
-    int texture;       // index into the TextureData array (level 0 is read)
-    int width;         // of the map
+    int width;         // of the map, texels
     int height;
-    int pad;           // 0
+    int pad0;          // 0
+    int pad1;          // 0
 } EnvData;
 
 // One path in flight, stored in a queue slot next to its ray. 32 bytes. Its results go to
