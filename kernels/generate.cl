@@ -55,7 +55,7 @@ WP_KERNEL void generate_camera(CameraData camera, uint seed, int first_pixel, ui
     ps.pixel = p;
     ps.sample = sample;
     ps.item = i;
-    ps.flags = 0;
+    ps.cone = 0.0f;
     paths[i] = ps;
     radiance[i] = make_float4(0.0f, 0.0f, 0.0f, 0.0f);
 }

@@ -10,6 +10,8 @@
 //                                  and never reads counts back (pbrt-v4's ForAllQueued)
 // Variants: closest (stackless, ordered: the default), closest_stack (the small-stack
 // oracle and speed reference), any (stackless, first hit; shadow rays).
+// -D WP_HAVE_ALPHA_MASK=1 adds the alpha test's arguments after each kernel's own
+// (bvh_traverse.h WP_ALPHA_KERNEL_PARAMS) and skips cut-out hits (alpha.h).
 // -D WP_PLAIN_TRIANGLES builds the benchmark-only baseline of `wavepath bench hard`
 // (Möller-Trumbore triangles, plain box tests; not watertight): see triangle.h.
 #include "shared/bvh_traverse.h"
@@ -25,21 +27,23 @@
     WP_KERNEL void name##_batch(WP_GLOBAL const Ray* rays, int count,                         \
                                WP_GLOBAL const BvhNode* nodes, WP_GLOBAL const BvhLinks* links, \
                                WP_GLOBAL const Triangle* tris, WP_GLOBAL const int* prim_ids,   \
-                               WP_GLOBAL Hit* hits, WP_GLOBAL TraceStats* stats) {              \
+                               WP_GLOBAL Hit* hits, WP_GLOBAL TraceStats* stats WP_ALPHA_KERNEL_PARAMS) { \
         int i = wp_global_id();                                                             \
         if (i >= count) return;                                                             \
+        WP_ALPHA_SETUP                                                                      \
         TraceStats st = {0, 0};                                                             \
-        hits[i] = trace(rays[i], nodes, links, tris, prim_ids, &st);                        \
+        hits[i] = trace(rays[i], nodes, links, tris, prim_ids, &st WP_ALPHA_ARG);           \
         WP_STORE_STATS(i, st);                                                              \
     }                                                                                       \
     WP_KERNEL void name(WP_GLOBAL const Ray* rays, WP_GLOBAL const int* queue_count,           \
                        WP_GLOBAL const BvhNode* nodes, WP_GLOBAL const BvhLinks* links,       \
                        WP_GLOBAL const Triangle* tris, WP_GLOBAL const int* prim_ids,         \
-                       WP_GLOBAL Hit* hits) {                                                \
+                       WP_GLOBAL Hit* hits WP_ALPHA_KERNEL_PARAMS) {                         \
         int i = wp_global_id();                                                             \
         if (i >= queue_count[0]) return;                                                    \
+        WP_ALPHA_SETUP                                                                      \
         TraceStats st = {0, 0};                                                             \
-        hits[i] = trace(rays[i], nodes, links, tris, prim_ids, &st);                        \
+        hits[i] = trace(rays[i], nodes, links, tris, prim_ids, &st WP_ALPHA_ARG);           \
     }
 
 WP_INTERSECT_ENTRIES(intersect_closest, wp_trace_closest)

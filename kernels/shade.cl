@@ -4,9 +4,14 @@
 // shade_surface
 // reads   rays_in[i], paths_in[i], hits[i] for i < count_in[0] (the queue of this bounce);
 //         the scene in original triangle order: tris (vertices), material_ids, materials;
-//         background radiance, seed, bounce (this bounce's index, the same for every path
-//         of the queue), max_depth; with WP_HAVE_NEE the light table (lights.h):
-//         light_cdf, light_prims, light_pdf_area, light_count
+//         background radiance; with WP_HAVE_NEE the light table (lights.h): light_cdf,
+//         light_prims, light_pdf_area, light_count; the appearance arrays of the features
+//         the scene has (else 4-byte placeholders): tri_normals (WP_HAVE_NORMALS), tri_uvs,
+//         material_textures and the texture pool (WP_HAVE_TEXTURES), tri_tangents
+//         (WP_HAVE_NORMAL_MAPS), the environment env, env_texels, env_marginal,
+//         env_conditional and env_distance (WP_HAVE_ENV); cone_spread (the camera's spread
+//         angle per pixel, for ray cones), seed, bounce (this bounce's index, the same for
+//         every path of the queue), max_depth
 // writes  radiance[item] += throughput * MIS weight * (emission of a front face hit), or
 //         throughput * background on a miss (item: the path's sample in its wave);
 //         counters[WP_COUNTER_SHADE_NONFINITE] on NaN/Inf
@@ -21,14 +26,22 @@
 //
 // Compile options (KernelConfig): WP_HAVE_<KIND> (material_kinds.h) select the material
 // code and WP_SAMPLING / WP_GLOSSY_MODEL the strategies (bsdf.h); WP_HAVE_EMISSION the
-// emission term; WP_HAVE_NEE (scene has emitters and WP_SAMPLING is NEE or MIS) the light
-// sampling; WP_RR_DEPTH the first bounce at which Russian roulette may end a path (< 0: off).
+// emission term; WP_HAVE_NEE (scene has emitters or an environment and WP_SAMPLING is NEE
+// or MIS) the light sampling; WP_RR_DEPTH the first bounce at which Russian roulette may
+// end a path (< 0: off); WP_HAVE_NORMALS, WP_HAVE_TEXTURES, WP_HAVE_NORMAL_MAPS and
+// WP_HAVE_ENV the appearance features (all 0 without options: a scene without them
+// compiles none of their code).
 // Emission is one-sided: only the front face (counter-clockwise winding normal) emits.
+// Shading normals shape the BSDF only; geometric normals decide sides, ray offsets and
+// which directions are reflections (shading.h lists the failure modes and their guards).
 #include "shared/bsdf.h"
+#include "shared/envmap.h"
 #include "shared/film.h"
 #include "shared/lights.h"
 #include "shared/offset.h"
 #include "shared/rng.h"
+#include "shared/shading.h"
+#include "shared/texture.h"
 
 // Without options: the generic program of the shipped estimator (estimator.h).
 #ifndef WP_HAVE_EMISSION
@@ -40,6 +53,18 @@
 #ifndef WP_RR_DEPTH
 #define WP_RR_DEPTH WP_DEFAULT_RR_DEPTH
 #endif
+#ifndef WP_HAVE_NORMALS
+#define WP_HAVE_NORMALS 0
+#endif
+#ifndef WP_HAVE_TEXTURES
+#define WP_HAVE_TEXTURES 0
+#endif
+#ifndef WP_HAVE_NORMAL_MAPS
+#define WP_HAVE_NORMAL_MAPS 0
+#endif
+#ifndef WP_HAVE_ENV
+#define WP_HAVE_ENV 0
+#endif
 
 // The light arrays of shade_surface, bundled for the helpers.
 typedef struct LightTable {
@@ -48,6 +73,67 @@ typedef struct LightTable {
     WP_GLOBAL const float* pdf_area;
     int count;
 } LightTable;
+
+// The appearance arrays of shade_surface (placeholders for features the scene lacks).
+typedef struct Appearance {
+    WP_GLOBAL const TriNormals* normals;
+    WP_GLOBAL const TriUVs* uvs;
+    WP_GLOBAL const TriTangents* tangents;
+    WP_GLOBAL const MaterialTextures* material_textures;
+    TexturePool pool;
+    EnvLight env;
+    float env_distance;  // length of a shadow ray towards the environment (beyond the scene)
+    float cone_spread;   // growth of the ray cone's width per unit length
+} Appearance;
+
+// Probability that next-event estimation samples the environment rather than a triangle.
+WP_FN float wp_env_choice(int light_count) {
+#if WP_HAVE_ENV
+    return light_count > 0 ? 0.5f : 1.0f;
+#else
+    (void)light_count;
+    return 0.0f;
+#endif
+}
+
+#if WP_HAVE_TEXTURES
+// The texture coordinates at barycentrics (u, v) of triangle `prim`.
+WP_FN float2 wp_hit_uv(Appearance a, int prim, float u, float v) {
+    return wp_interpolate_uv(a.uvs[prim], u, v);
+}
+
+// log2 of the ray cone's footprint in uv units on triangle `prim` (Akenine-Möller et al.,
+// "Improved Shader and Texture Level of Detail Using Ray Cones", JCGT 10(1), 2021, eq. 34
+// without the texture's size, which wp_texture_view adds): the cone's width over the
+// cosine, scaled by sqrt(uv area / world area).
+WP_FN float wp_footprint_lod(Appearance a, int prim, float3 e1, float3 e2, float width, float cos_abs) {
+    TriUVs t = a.uvs[prim];
+    float du1 = t.uv01.z - t.uv01.x, dv1 = t.uv01.w - t.uv01.y;
+    float du2 = t.uv2.x - t.uv01.x, dv2 = t.uv2.y - t.uv01.y;
+    float uv_area = fabs(du1 * dv2 - du2 * dv1);
+    float world_area = length(cross(e1, e2));
+    float lod = 0.5f * log2(uv_area / world_area) + log2(width / max(cos_abs, 1e-6f));
+    return isnan(lod) ? -FLT_MAX : lod;  // 0/0 (degenerate uvs): level 0
+}
+
+// The material at a hit with its textures applied (albedo, roughness, emission).
+WP_FN MaterialData wp_textured_material(MaterialData m, MaterialTextures mt, TexturePool pool,
+                                        float2 uv, float lod) {
+    if (mt.albedo >= 0) {
+        float4 c = wp_texture_view(pool, mt.albedo, uv, lod);
+        m.albedo = make_float4(m.albedo.x * c.x, m.albedo.y * c.y, m.albedo.z * c.z, 0.0f);
+    }
+    if (mt.roughness >= 0) {
+        float g = wp_texture_view(pool, mt.roughness, uv, lod).y;
+        m.alpha = max(m.alpha * g * g, 1e-4f);
+    }
+    if (mt.emission >= 0) {
+        float4 c = wp_texture_view(pool, mt.emission, uv, lod);
+        m.emission = make_float4(m.emission.x * c.x, m.emission.y * c.y, m.emission.z * c.z, 0.0f);
+    }
+    return m;
+}
+#endif
 
 // Adds v to radiance[item] when finite; counts it otherwise.
 WP_FN void wp_add_radiance(WP_GLOBAL float4* radiance, int item, float3 v, WP_GLOBAL int* counters) {
@@ -62,13 +148,15 @@ WP_FN void wp_add_radiance(WP_GLOBAL float4* radiance, int item, float3 v, WP_GL
 // a shadow ray.
 WP_FN int wp_shade_path(Ray ray, PathState path, Hit hit, WP_GLOBAL const Triangle* tris,
                         WP_GLOBAL const int* material_ids, WP_GLOBAL const MaterialData* materials,
-                        float4 background, uint seed, int bounce, int max_depth,
-                        LightTable lights, WP_GLOBAL float4* radiance, WP_GLOBAL int* counters,
-                        Ray* next_ray, PathState* next_path, int* shadow, Ray* shadow_ray,
-                        float4* contrib) {
+                        float4 background, LightTable lights, Appearance app, uint seed,
+                        int bounce, int max_depth, WP_GLOBAL float4* radiance,
+                        WP_GLOBAL int* counters, Ray* next_ray, PathState* next_path,
+                        int* shadow, Ray* shadow_ray, float4* contrib) {
     float3 beta = wp_xyz(path.throughput);
     float3 d = wp_xyz(ray.dir);
     const uint pixel = (uint)path.pixel, sample = path.sample;
+    // The last bounce was a Dirac lobe (camera rays, bounce 0, count as not specular).
+    const int arrived_specular = bounce > 0 && path.throughput.w == 0.0f;
     *shadow = 0;
 #if WP_INJECT_NAN
     if (bounce == 0 && wp_inject_here(WP_INJECT_SHADE, path.pixel)) beta.x = wp_quiet_nan();
@@ -79,9 +167,28 @@ WP_FN int wp_shade_path(Ray ray, PathState path, Hit hit, WP_GLOBAL const Triang
         return 0;
     }
 
-    // Escaped: the constant background.
+    // Escaped: the constant background, and the environment weighted against light
+    // sampling where that could have drawn this direction too.
     if (hit.prim < 0) {
-        wp_add_radiance(radiance, path.item, beta * wp_xyz(background), counters);
+        float3 le = wp_xyz(background);
+#if WP_HAVE_ENV
+        {
+            float3 dn_miss = normalize(d);
+            float w = 1.0f;
+#if WP_HAVE_NEE
+            if (bounce > 0 && !arrived_specular) {
+#if WP_SAMPLING == WP_SAMPLING_MIS
+                float p_env = wp_env_choice(lights.count) * wp_env_pdf(app.env, dn_miss);
+                w = wp_power_heuristic(path.throughput.w, p_env);
+#else
+                w = 0.0f;  // NEE only: light sampling alone counts the environment
+#endif
+            }
+#endif
+            if (w > 0.0f) le = le + wp_env_radiance(app.env, dn_miss) * w;
+        }
+#endif
+        wp_add_radiance(radiance, path.item, beta * le, counters);
         return 0;
     }
 
@@ -92,6 +199,16 @@ WP_FN int wp_shade_path(Ray ray, PathState path, Hit hit, WP_GLOBAL const Triang
     float3 v0 = wp_xyz(tri.v0), v1 = wp_xyz(tri.v1), v2 = wp_xyz(tri.v2);
     float3 n = normalize(cross(v1 - v0, v2 - v0));
     int front = dot(d, n) < 0.0f;
+    float3 dn = normalize(d);
+    // The ray cone's width here (Akenine-Möller et al. 2021, constant spread).
+    float cone = path.cone + app.cone_spread * hit.t * length(d);
+
+#if WP_HAVE_TEXTURES
+    MaterialTextures mt = app.material_textures[material_ids[hit.prim]];
+    float2 uv = wp_hit_uv(app, hit.prim, hit.u, hit.v);
+    float lod = wp_footprint_lod(app, hit.prim, v1 - v0, v2 - v0, cone, dot(dn, n));
+    m = wp_textured_material(m, mt, app.pool, uv, lod);
+#endif
 
 #if WP_HAVE_EMISSION
     // Emission of the front face, weighted against light sampling where that could have
@@ -99,12 +216,12 @@ WP_FN int wp_shade_path(Ray ray, PathState path, Hit hit, WP_GLOBAL const Triang
     if (front && wp_max_component(wp_xyz(m.emission)) > 0.0f) {
         float w = 1.0f;
 #if WP_HAVE_NEE
-        float pdf_area = lights.pdf_area[hit.prim];
-        if (bounce > 0 && !(path.flags & WP_PATH_SPECULAR) && pdf_area > 0.0f) {
+        float pdf_area = lights.pdf_area[hit.prim] * (1.0f - wp_env_choice(lights.count));
+        if (bounce > 0 && !arrived_specular && pdf_area > 0.0f) {
 #if WP_SAMPLING == WP_SAMPLING_MIS
             // Light density of this direction over solid angle at the previous vertex.
             float dist = hit.t * length(d);
-            float p_light = wp_light_pdf_solid_angle(pdf_area, dist * dist, -dot(normalize(d), n));
+            float p_light = wp_light_pdf_solid_angle(pdf_area, dist * dist, -dot(dn, n));
             w = wp_power_heuristic(path.throughput.w, p_light);
 #else
             w = 0.0f;  // NEE only: light sampling alone counts this light
@@ -116,47 +233,93 @@ WP_FN int wp_shade_path(Ray ray, PathState path, Hit hit, WP_GLOBAL const Triang
 #endif
     if (bounce >= max_depth) return 0;
 
-    float3 ns = front ? n : -n;
-    float3 dn = normalize(d);
+    // ng: the geometric normal on the side the ray arrived from; ns: the shading normal
+    // on that side (ng itself without shading normals).
+    float3 ng = front ? n : -n;
+    float3 ns = ng;
+#if WP_HAVE_NORMALS
+    {
+        float3 nf = wp_interpolated_normal(app.normals[hit.prim], hit.u, hit.v, n);
+#if WP_HAVE_NORMAL_MAPS
+        if (mt.normal >= 0) {
+            TriTangents tt = app.tangents[hit.prim];
+            float3 t3 = wp_interpolate3(tt.t0, tt.t1, tt.t2, hit.u, hit.v);
+            float4 c = wp_texture_view(app.pool, mt.normal, uv, lod);
+            float3 mv = make_float3((2.0f * c.x - 1.0f) * mt.normal_scale,
+                                    (2.0f * c.y - 1.0f) * mt.normal_scale, 2.0f * c.z - 1.0f);
+            nf = wp_apply_normal_map(nf, make_float4(t3.x, t3.y, t3.z, tt.t0.w), mv);
+        }
+#endif
+        ns = front ? nf : -nf;
+        ns = wp_bend_normal(ns, ng, -dn);  // failure mode 1 (shading.h)
+    }
+#endif
     float3 perr;
     float3 p = wp_hit_point(v0, v1, v2, hit.u, hit.v, &perr);
     float tri_offset = wp_triangle_offset(v0, v1, v2);
-    float3 org = wp_offset_ray_origin(p, perr, ns, tri_offset);
+    float3 org = wp_offset_ray_origin(p, perr, ng, tri_offset);
 
 #if WP_HAVE_NEE
-    // Next-event estimation: a point on a light chosen by power; the shadow ray is traced
-    // by the shadow stage, which adds *contrib to the radiance when it is unoccluded.
-    if (!wp_material_is_specular(m) && lights.count > 0) {
+    // Next-event estimation: a point on a light chosen by power, or a direction of the
+    // environment; the shadow ray is traced by the shadow stage, which adds *contrib to the
+    // radiance when it is unoccluded.
+    if (!wp_material_is_specular(m) && (lights.count > 0 || WP_HAVE_ENV)) {
         float4 ul = wp_rng4(seed, pixel, sample, (uint)bounce, WP_RNG_LIGHT);
-        int li = wp_light_pick(lights.cdf, lights.count, ul.z);
-        int lp = lights.prims[li];
-        Triangle lt = tris[lp];
-        float3 l0 = wp_xyz(lt.v0), l1 = wp_xyz(lt.v1), l2 = wp_xyz(lt.v2);
-        float3 ln = normalize(cross(l1 - l0, l2 - l0));
-        float2 bl = wp_sample_triangle_barycentric(ul.x, ul.y);
-        float3 yerr;
-        float3 y = wp_hit_point(l0, l1, l2, bl.x, bl.y, &yerr);
-        float3 to = y - p;
-        float dist2 = dot(to, to);
-        float3 wi = to * (1.0f / sqrt(dist2));
-        float cos_light = -dot(wi, ln);
-        float bsdf_pdf;
-        float3 fcos = wp_bsdf_eval(m, dn, ns, wi, &bsdf_pdf);
-        float p_light = wp_light_pdf_solid_angle(lights.pdf_area[lp], dist2, cos_light);
+        float p_env = wp_env_choice(lights.count);
+        float3 wi, le, sd;
+        float p_light = 0.0f;
+#if WP_HAVE_ENV
+        if (ul.w < p_env) {
+            float pdf_dir;
+            wi = wp_env_sample(app.env, ul.x, ul.y, &pdf_dir);
+            p_light = p_env * pdf_dir;
+            le = p_light > 0.0f ? wp_env_radiance(app.env, wi) : make_float3(0.0f, 0.0f, 0.0f);
+            sd = wi * app.env_distance;
+        } else
+#endif
+        {
+            int li = wp_light_pick(lights.cdf, lights.count, ul.z);
+            int lp = lights.prims[li];
+            Triangle lt = tris[lp];
+            float3 l0 = wp_xyz(lt.v0), l1 = wp_xyz(lt.v1), l2 = wp_xyz(lt.v2);
+            float3 ln = normalize(cross(l1 - l0, l2 - l0));
+            float2 bl = wp_sample_triangle_barycentric(ul.x, ul.y);
+            float3 yerr;
+            float3 y = wp_hit_point(l0, l1, l2, bl.x, bl.y, &yerr);
+            float3 to = y - p;
+            float dist2 = dot(to, to);
+            wi = to * (1.0f / sqrt(dist2));
+            p_light = wp_light_pdf_solid_angle(lights.pdf_area[lp] * (1.0f - p_env), dist2, -dot(wi, ln));
+            le = wp_xyz(materials[material_ids[lp]].emission);
+#if WP_HAVE_TEXTURES
+            MaterialTextures lmt = app.material_textures[material_ids[lp]];
+            if (lmt.emission >= 0) {
+                float4 c = wp_texture_view(app.pool, lmt.emission,
+                                           wp_hit_uv(app, lp, bl.x, bl.y), -FLT_MAX);
+                le = le * wp_xyz(c);
+            }
+#endif
+            // Segment from the offset origin to the light point offset to its front:
+            // hits need 0 < t < 1.
+            float3 target = wp_offset_ray_origin(y, yerr, ln, wp_triangle_offset(l0, l1, l2));
+            sd = target - org;
+        }
+        // Light on the geometric side of arrival only (a reflection; failure mode 2).
+        float bsdf_pdf = 0.0f;
+        float3 fcos = make_float3(0.0f, 0.0f, 0.0f);
+        if (dot(wi, ng) > 0.0f) fcos = wp_bsdf_eval(m, dn, ns, wi, &bsdf_pdf);
+#if WP_HAVE_NORMALS
+        fcos = fcos * wp_terminator_factor(ng, ns, wi);  // failure mode 3
+#endif
         if (p_light > 0.0f && wp_max_component(fcos) > 0.0f) {
             float w = 1.0f;
 #if WP_SAMPLING == WP_SAMPLING_MIS
             w = wp_power_heuristic(p_light, bsdf_pdf);
 #endif
-            float3 le = wp_xyz(materials[material_ids[lp]].emission);
             float3 c = beta * fcos * le * (w / p_light);
             if (!wp_all_finite3(c)) {
                 wp_atomic_inc(&counters[WP_COUNTER_SHADE_NONFINITE]);
             } else if (wp_max_component(c) > 0.0f) {
-                // Segment from the offset origin to the light point offset to its front:
-                // hits need 0 < t < 1.
-                float3 target = wp_offset_ray_origin(y, yerr, ln, wp_triangle_offset(l0, l1, l2));
-                float3 sd = target - org;
                 shadow_ray->org = make_float4(org.x, org.y, org.z, 0.0f);
                 shadow_ray->dir = make_float4(sd.x, sd.y, sd.z, 1.0f);
                 *contrib = wp_float4(c, 0.0f);
@@ -172,6 +335,13 @@ WP_FN int wp_shade_path(Ray ray, PathState path, Hit hit, WP_GLOBAL const Triang
     float pdf;
     int specular;
     if (!wp_bsdf_sample_pdf(m, dn, ns, front, u, &wo, &weight, &pdf, &specular)) return 0;
+    if (!specular && !(pdf > 0.0f)) return 0;  // a zero-density draw (measure zero): absorbed
+#if WP_HAVE_NORMALS
+    // A reflection below the geometric surface or a transmission that stays above it is
+    // absorbed (failure mode 2); non-specular reflections get the terminator factor (3).
+    if (!wp_same_side(wo, ns, ng)) return 0;
+    if (!specular && dot(wo, ng) > 0.0f) weight = weight * wp_terminator_factor(ng, ns, wo);
+#endif
     beta = beta * weight;
     if (!wp_all_finite3(beta) || !wp_all_finite3(wo)) {
         wp_atomic_inc(&counters[WP_COUNTER_SHADE_NONFINITE]);
@@ -190,13 +360,14 @@ WP_FN int wp_shade_path(Ray ray, PathState path, Hit hit, WP_GLOBAL const Triang
     }
 #endif
 
-    // The continued path, from a robustly offset origin.
-    float3 org_next = dot(wo, ns) > 0.0f ? org : wp_offset_ray_origin(p, perr, -ns, tri_offset);
+    // The continued path, from a robustly offset origin on the geometric side it leaves.
+    float3 org_next = dot(wo, ng) > 0.0f ? org : wp_offset_ray_origin(p, perr, -ng, tri_offset);
     next_ray->org = make_float4(org_next.x, org_next.y, org_next.z, 0.0f);
     next_ray->dir = make_float4(wo.x, wo.y, wo.z, FLT_MAX);
     *next_path = path;
-    next_path->throughput = wp_float4(beta, pdf);
-    next_path->flags = specular ? WP_PATH_SPECULAR : 0;
+    // w: the density of wo; 0 marks a specular bounce (PathState).
+    next_path->throughput = wp_float4(beta, specular ? 0.0f : pdf);
+    next_path->cone = cone;
     return 1;
 }
 
@@ -209,8 +380,18 @@ WP_KERNEL void shade_surface(WP_GLOBAL const Ray* rays_in, WP_GLOBAL const PathS
                              WP_GLOBAL const Triangle* tris, WP_GLOBAL const int* material_ids,
                              WP_GLOBAL const MaterialData* materials, float4 background,
                              WP_GLOBAL const float* light_cdf, WP_GLOBAL const int* light_prims,
-                             WP_GLOBAL const float* light_pdf_area, int light_count, uint seed,
-                             int bounce, int max_depth, WP_GLOBAL float4* radiance,
+                             WP_GLOBAL const float* light_pdf_area, int light_count,
+                             WP_GLOBAL const TriNormals* tri_normals, WP_GLOBAL const TriUVs* tri_uvs,
+                             WP_GLOBAL const TriTangents* tri_tangents,
+                             WP_GLOBAL const MaterialTextures* material_textures,
+                             WP_GLOBAL const TextureData* textures,
+                             WP_GLOBAL const TextureView* texture_views,
+                             WP_GLOBAL const uint* texels8, WP_GLOBAL const float4* texelsf,
+                             EnvData env, WP_GLOBAL const float4* env_texels,
+                             WP_GLOBAL const float* env_marginal,
+                             WP_GLOBAL const float* env_conditional, float env_distance,
+                             float cone_spread, uint seed, int bounce, int max_depth,
+                             WP_GLOBAL float4* radiance,
                              WP_GLOBAL int* counters, WP_GLOBAL Ray* rays_out,
                              WP_GLOBAL PathState* paths_out, WP_GLOBAL int* count_out,
                              WP_GLOBAL Ray* shadow_rays, WP_GLOBAL int* shadow_items,
@@ -229,6 +410,21 @@ WP_KERNEL void shade_surface(WP_GLOBAL const Ray* rays_in, WP_GLOBAL const PathS
     lights.prims = light_prims;
     lights.pdf_area = light_pdf_area;
     lights.count = light_count;
+    Appearance app;
+    app.normals = tri_normals;
+    app.uvs = tri_uvs;
+    app.tangents = tri_tangents;
+    app.material_textures = material_textures;
+    app.pool.textures = textures;
+    app.pool.views = texture_views;
+    app.pool.texels8 = texels8;
+    app.pool.texelsf = texelsf;
+    app.env.data = env;
+    app.env.texels = env_texels;
+    app.env.marginal = env_marginal;
+    app.env.conditional = env_conditional;
+    app.env_distance = env_distance;
+    app.cone_spread = cone_spread;
     Ray next_ray, shadow_ray;
     PathState next_path;
     float4 contrib = make_float4(0.0f, 0.0f, 0.0f, 0.0f);
@@ -237,7 +433,7 @@ WP_KERNEL void shade_surface(WP_GLOBAL const Ray* rays_in, WP_GLOBAL const PathS
         PathState path = paths_in[i];
         item = path.item;
         push = wp_shade_path(rays_in[i], path, hits[i], tris, material_ids, materials, background,
-                             seed, bounce, max_depth, lights, radiance, counters, &next_ray,
+                             lights, app, seed, bounce, max_depth, radiance, counters, &next_ray,
                              &next_path, &shadow, &shadow_ray, &contrib);
     }
     int local_slot = push ? wp_atomic_inc(&group_count) : 0;

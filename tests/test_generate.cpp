@@ -116,7 +116,7 @@ TEST_CASE("generate: pixel-centre rays match the host camera model", "[kernel][g
         REQUIRE(g.paths[p].pixel == p);
         REQUIRE(g.paths[p].sample == 5u);
         REQUIRE(g.paths[p].item == p);
-        REQUIRE(g.paths[p].flags == 0);
+        REQUIRE(g.paths[p].cone == 0.0f);
         REQUIRE(g.paths[p].throughput.w == 0.0f);  // no BSDF density yet
         REQUIRE(g.paths[p].throughput.x == 1.0f);
         REQUIRE(g.paths[p].throughput.z == 1.0f);

@@ -194,7 +194,6 @@ TEST_CASE("shade: mirror reflects exactly and pushes an offset ray", "[kernel][s
         const PathState& p = o.paths[k];
         glm::vec3 d(r.dir.x, r.dir.y, r.dir.z), org(r.org.x, r.org.y, r.org.z);
         CHECK(p.item == p.pixel);  // the continued path keeps its sample
-        CHECK(p.flags == WP_PATH_SPECULAR);
         CHECK(p.throughput.w == 0.0f);  // a specular bounce has no density
         CHECK(r.org.w == 0.0f);
         CHECK(r.dir.w == FLT_MAX);

@@ -36,6 +36,39 @@
 
 #include "triangle.h"
 
+// Alpha cut-outs (alpha.h): with WP_HAVE_ALPHA_MASK every traversal takes an AlphaScene
+// and skips candidate hits whose material is not there. Without it nothing changes.
+#ifndef WP_HAVE_ALPHA_MASK
+#define WP_HAVE_ALPHA_MASK 0
+#endif
+#if WP_HAVE_ALPHA_MASK
+#include "alpha.h"
+#define WP_ALPHA_PARAM , const AlphaScene* alpha
+#define WP_ALPHA_ARG , alpha
+// The kernel arguments that feed it (after a kernel's own, in this order) and the
+// AlphaScene `alpha` built from them at the top of the kernel.
+#define WP_ALPHA_KERNEL_PARAMS                                                              \
+    , WP_GLOBAL const int *material_ids, WP_GLOBAL const MaterialTextures *material_textures, \
+        WP_GLOBAL const TriUVs *tri_uvs, WP_GLOBAL const TextureData *textures,              \
+        WP_GLOBAL const TextureView *texture_views, WP_GLOBAL const uint *texels8,           \
+        WP_GLOBAL const float4 *texelsf
+#define WP_ALPHA_SETUP                                     \
+    AlphaScene alpha_scene;                                \
+    alpha_scene.material_ids = material_ids;               \
+    alpha_scene.material_textures = material_textures;     \
+    alpha_scene.uvs = tri_uvs;                             \
+    alpha_scene.pool.textures = textures;                  \
+    alpha_scene.pool.views = texture_views;                \
+    alpha_scene.pool.texels8 = texels8;                    \
+    alpha_scene.pool.texelsf = texelsf;                    \
+    const AlphaScene* alpha = &alpha_scene;
+#else
+#define WP_ALPHA_PARAM
+#define WP_ALPHA_ARG
+#define WP_ALPHA_KERNEL_PARAMS
+#define WP_ALPHA_SETUP
+#endif
+
 WP_NAMESPACE_BEGIN
 
 #if defined(WP_PLAIN_TRIANGLES)
@@ -168,7 +201,7 @@ WP_FN int wp_leaf_count(int ref) { return (~ref) & WP_LEAF_MAX_COUNT; }
 // Intersects the triangles of one leaf, keeping the closest hit (ties: smallest prim).
 // Returns 1 when any triangle was hit (the any-hit traversal stops there).
 WP_FN int wp_intersect_leaf(const TriRay* tr, int ref, WP_GLOBAL const Triangle* tris,
-                            WP_GLOBAL const int* prim_ids, Hit* hit, TraceStats* stats) {
+                            WP_GLOBAL const int* prim_ids, Hit* hit, TraceStats* stats WP_ALPHA_PARAM) {
     (void)stats;  // used only with WP_STATS
     int first = wp_leaf_first(ref), count = wp_leaf_count(ref);
     int any = 0;
@@ -180,7 +213,11 @@ WP_FN int wp_intersect_leaf(const TriRay* tr, int ref, WP_GLOBAL const Triangle*
 #endif
         if (wp_intersect_triangle(tr, tri.v0, tri.v1, tri.v2, &t, &u, &v)) {
             int prim = prim_ids[i];
-            if (t < hit->t || (t == hit->t && prim < hit->prim)) {
+            if ((t < hit->t || (t == hit->t && prim < hit->prim))
+#if WP_HAVE_ALPHA_MASK
+                && wp_alpha_pass(alpha, prim, u, v)
+#endif
+            ) {
                 hit->t = t;
                 hit->prim = prim;
                 hit->u = u;
@@ -204,7 +241,7 @@ WP_FN Hit wp_miss(Ray ray) {
 // Stackless traversal shared by closest hit (ordered) and any hit (slot order, early out).
 WP_FN Hit wp_trace_stackless(Ray ray, WP_GLOBAL const BvhNode* nodes,
                              WP_GLOBAL const BvhLinks* links, WP_GLOBAL const Triangle* tris,
-                             WP_GLOBAL const int* prim_ids, int any_hit, TraceStats* stats) {
+                             WP_GLOBAL const int* prim_ids, int any_hit, TraceStats* stats WP_ALPHA_PARAM) {
     Hit hit = wp_miss(ray);
     BoxRay br = wp_box_ray(ray);
     TriRay tr = wp_tri_ray(ray);
@@ -228,7 +265,7 @@ WP_FN Hit wp_trace_stackless(Ray ray, WP_GLOBAL const BvhNode* nodes,
                 next = c;
                 break;
             }
-            if (wp_intersect_leaf(&tr, c, tris, prim_ids, &hit, stats)) {
+            if (wp_intersect_leaf(&tr, c, tris, prim_ids, &hit, stats WP_ALPHA_ARG)) {
                 if (any_hit) return hit;
                 // Drop the children that now start behind the closest hit.
                 cand &= wp_wmask_le(tn, wp_wsplat(hit.t * WP_HIT_CULL_SCALE));
@@ -254,21 +291,21 @@ WP_FN Hit wp_trace_stackless(Ray ray, WP_GLOBAL const BvhNode* nodes,
 
 WP_FN Hit wp_trace_closest(Ray ray, WP_GLOBAL const BvhNode* nodes, WP_GLOBAL const BvhLinks* links,
                            WP_GLOBAL const Triangle* tris, WP_GLOBAL const int* prim_ids,
-                           TraceStats* stats) {
-    return wp_trace_stackless(ray, nodes, links, tris, prim_ids, 0, stats);
+                           TraceStats* stats WP_ALPHA_PARAM) {
+    return wp_trace_stackless(ray, nodes, links, tris, prim_ids, 0, stats WP_ALPHA_ARG);
 }
 
 WP_FN Hit wp_trace_any(Ray ray, WP_GLOBAL const BvhNode* nodes, WP_GLOBAL const BvhLinks* links,
                        WP_GLOBAL const Triangle* tris, WP_GLOBAL const int* prim_ids,
-                       TraceStats* stats) {
-    return wp_trace_stackless(ray, nodes, links, tris, prim_ids, 1, stats);
+                       TraceStats* stats WP_ALPHA_PARAM) {
+    return wp_trace_stackless(ray, nodes, links, tris, prim_ids, 1, stats WP_ALPHA_ARG);
 }
 
 // Ordered traversal with a private stack of (child reference, entry distance): the same
 // visiting order as wp_trace_closest, the remaining children pushed far to near.
 WP_FN Hit wp_trace_closest_stack(Ray ray, WP_GLOBAL const BvhNode* nodes,
                                  WP_GLOBAL const BvhLinks* links, WP_GLOBAL const Triangle* tris,
-                                 WP_GLOBAL const int* prim_ids, TraceStats* stats) {
+                                 WP_GLOBAL const int* prim_ids, TraceStats* stats WP_ALPHA_PARAM) {
     (void)links;  // same arguments as the stackless traversal; the stack needs no up-links
     Hit hit = wp_miss(ray);
     BoxRay br = wp_box_ray(ray);
@@ -294,7 +331,7 @@ WP_FN Hit wp_trace_closest_stack(Ray ray, WP_GLOBAL const BvhNode* nodes,
                     next = c;
                     break;
                 }
-                if (wp_intersect_leaf(&tr, c, tris, prim_ids, &hit, stats))
+                if (wp_intersect_leaf(&tr, c, tris, prim_ids, &hit, stats WP_ALPHA_ARG))
                     cand &= wp_wmask_le(tn, wp_wsplat(hit.t * WP_HIT_CULL_SCALE));
             }
             while (cand != 0) {
@@ -306,7 +343,7 @@ WP_FN Hit wp_trace_closest_stack(Ray ray, WP_GLOBAL const BvhNode* nodes,
             }
             if (next >= 0) continue;
         } else if (next != -1) {
-            wp_intersect_leaf(&tr, next, tris, prim_ids, &hit, stats);
+            wp_intersect_leaf(&tr, next, tris, prim_ids, &hit, stats WP_ALPHA_ARG);
         }
         // Pop the nearest pending entry that can still hold a closer hit.
         next = -1;

@@ -93,7 +93,8 @@ struct __align__(32) float8 { float s[8]; };
 static_assert(sizeof(float8) == 32, "float8 as in OpenCL");
 
 // Scalar builtins that CUDA names differently. min, max, fabs, sqrt, fmin, fmax, fma,
-// floor, copysign, isfinite, isnan, isinf, sin, cos, tan, exp, log, pow, acos are CUDA's
+// floor, copysign, isfinite, isnan, isinf, sin, cos, tan, exp, log, pow, acos, asin, atan2,
+// log2, exp2, round, trunc are CUDA's
 // own float overloads (IEEE, correctly rounded where OpenCL requires it; no fast math).
 __device__ inline uint as_uint(float f) { return __float_as_uint(f); }
 __device__ inline int as_int(float f) { return __float_as_int(f); }
@@ -181,6 +182,12 @@ using std::exp;
 using std::log;
 using std::pow;
 using std::acos;
+using std::asin;
+using std::atan2;
+using std::log2;
+using std::exp2;
+using std::round;
+using std::trunc;
 inline uint as_uint(float f) { uint u; std::memcpy(&u, &f, 4); return u; }
 inline int as_int(float f) { int i; std::memcpy(&i, &f, 4); return i; }
 inline float as_float(uint u) { float f; std::memcpy(&f, &u, 4); return f; }

@@ -143,9 +143,21 @@ typedef struct TraceStats {
     X(__builtin_offsetof(MaterialData, ior)) X(__builtin_offsetof(MaterialData, alpha))   \
     X(sizeof(PathState)) X(__builtin_offsetof(PathState, pixel))                          \
     X(__builtin_offsetof(PathState, sample)) X(__builtin_offsetof(PathState, item))        \
-    X(__builtin_offsetof(PathState, flags))                                               \
+    X(__builtin_offsetof(PathState, cone))                                               \
     X(sizeof(FilmPixel))                          \
-    X(__builtin_offsetof(FilmPixel, comp))
+    X(__builtin_offsetof(FilmPixel, comp))                                                \
+    /* Appearance types */                                                                \
+    X(sizeof(TriNormals)) X(__builtin_offsetof(TriNormals, n2))                           \
+    X(sizeof(TriUVs)) X(__builtin_offsetof(TriUVs, uv2))                                  \
+    X(sizeof(TriTangents)) X(__builtin_offsetof(TriTangents, t2))                         \
+    X(sizeof(TextureData)) X(__builtin_offsetof(TextureData, format))                     \
+    X(__builtin_offsetof(TextureData, nearest))                                           \
+    X(sizeof(TextureView)) X(__builtin_offsetof(TextureView, v_row))                      \
+    X(__builtin_offsetof(TextureView, texture))                                           \
+    X(sizeof(MaterialTextures)) X(__builtin_offsetof(MaterialTextures, alpha))            \
+    X(__builtin_offsetof(MaterialTextures, normal_scale))                                 \
+    X(sizeof(EnvData)) X(__builtin_offsetof(EnvData, scale))                              \
+    X(__builtin_offsetof(EnvData, width)) X(__builtin_offsetof(EnvData, height))
 
 // ===================================================================================
 // Render stage types (generate / shade / accumulate; see kernels/*.cl and src/render/)
@@ -264,13 +276,15 @@ typedef struct PathState {
     float4 throughput;  // xyz: path throughput (product of BSDF * cos / pdf, unitless);
                         // w: density (per steradian) with which the last bounce drew this
                         // ray's direction, for MIS weights; 0 for camera rays and specular
-                        // bounces
+                        // bounces (so a path at bounce > 0 with w == 0 arrived by a Dirac
+                        // lobe: wp_path_specular)
     int pixel;          // pixel index y * width + x
     uint sample;        // the pixel's sample index (the sampler's sample number)
     int item;           // the sample's index within its wave: its radiance slot
-    int flags;          // WP_PATH_* bits: WP_PATH_SPECULAR = the last bounce was specular
+    float cone;         // width of the ray cone at the ray's origin (world units, >= 0): the
+                        // texture footprint (ray cones, Akenine-Möller et al. 2021); 0 at the
+                        // camera (a pinhole), grown by the pixel's spread angle per unit length
 } PathState;
-#define WP_PATH_SPECULAR 1
 
 // Accumulated sum of one film pixel: per channel a double-float pair (hi, lo) whose value
 // is sum + comp, kept normalised (|comp| <= ulp(sum) / 2) by film.h (Joldes, Muller &
@@ -319,8 +333,20 @@ static_assert(sizeof(wp::MaterialData) == 48 && offsetof(wp::MaterialData, kind)
               offsetof(wp::MaterialData, ior) == 36 && offsetof(wp::MaterialData, alpha) == 40);
 static_assert(sizeof(wp::PathState) == 32 && offsetof(wp::PathState, pixel) == 16 &&
               offsetof(wp::PathState, sample) == 20 && offsetof(wp::PathState, item) == 24 &&
-              offsetof(wp::PathState, flags) == 28);
+              offsetof(wp::PathState, cone) == 28);
 static_assert(sizeof(wp::FilmPixel) == 32 && offsetof(wp::FilmPixel, comp) == 16);
+// Appearance types.
+static_assert(sizeof(wp::TriNormals) == 48 && offsetof(wp::TriNormals, n2) == 32);
+static_assert(sizeof(wp::TriUVs) == 32 && offsetof(wp::TriUVs, uv2) == 16);
+static_assert(sizeof(wp::TriTangents) == 48 && offsetof(wp::TriTangents, t2) == 32);
+static_assert(sizeof(wp::TextureData) == 32 && offsetof(wp::TextureData, format) == 16 &&
+              offsetof(wp::TextureData, nearest) == 20);
+static_assert(sizeof(wp::TextureView) == 48 && offsetof(wp::TextureView, v_row) == 16 &&
+              offsetof(wp::TextureView, texture) == 32);
+static_assert(sizeof(wp::MaterialTextures) == 32 && offsetof(wp::MaterialTextures, alpha) == 16 &&
+              offsetof(wp::MaterialTextures, normal_scale) == 28);
+static_assert(sizeof(wp::EnvData) == 80 && offsetof(wp::EnvData, scale) == 48 &&
+              offsetof(wp::EnvData, width) == 64 && offsetof(wp::EnvData, height) == 68);
 #endif
 
 #endif  // WP_TYPES_H

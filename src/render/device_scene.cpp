@@ -1,7 +1,11 @@
 #include "render/device_scene.h"
 
 #include <algorithm>
+#include <cmath>
 #include <optional>
+
+#include <glm/geometric.hpp>
+#include <glm/trigonometric.hpp>
 
 #include "bvh/build.h"
 #include "bvh/flatten.h"
@@ -52,8 +56,53 @@ DeviceScene DeviceScene::upload(const ocl::Device& dev, const Scene& scene, cons
         s.light_prims = ocl::Array<int>::zeros(dev, 0, "a placeholder");
         s.light_pdf_area = ocl::Array<float>::zeros(dev, 0, "a placeholder");
     }
+    // Appearance: only what the kernels were configured for (KernelConfig::from_scene).
+    AppearanceNeeds needs;
+    needs.normals = config.normals;
+    needs.uvs = config.textures || config.alpha_mask;
+    needs.tangents = config.normal_maps;
+    needs.env = config.env;
+    AppearanceUpload app = upload_appearance(scene, needs);
+    s.tri_normals = ocl::Array<TriNormals>::upload(dev, app.normals, "the shading normals");
+    s.tri_tangents = ocl::Array<TriTangents>::upload(dev, app.tangents, "the tangents");
+    TextureArrays& t = s.tex;
+    t.material_ids = s.material_ids;
+    t.material_textures = ocl::Array<MaterialTextures>::upload(dev, app.material_textures, "the material textures");
+    t.tri_uvs = ocl::Array<TriUVs>::upload(dev, app.uvs, "the texture coordinates");
+    t.textures = ocl::Array<TextureData>::upload(dev, app.textures.textures, "the texture table");
+    t.views = ocl::Array<TextureView>::upload(dev, app.views, "the texture views");
+    t.texels8 = ocl::Array<cl_uint>::upload(dev, app.textures.texels8, "the 8-bit texels");
+    t.texelsf = ocl::Array<float4>::upload(dev, app.textures.texelsf, "the float texels");
+    st.texture_count = app.textures.textures.size();
+    st.texture_bytes = t.material_textures.bytes() + t.textures.bytes() + t.views.bytes() +
+                       t.texels8.bytes() + t.texelsf.bytes();
+    st.attribute_bytes = s.tri_normals.bytes() + s.tri_tangents.bytes() + t.tri_uvs.bytes();
+    std::vector<float4> no_texels;
+    std::vector<float> no_table;
+    const EnvUpload* env = app.env ? &*app.env : nullptr;
+    if (env) {
+        s.env = env->data;
+        st.env_width = env->data.width;
+        st.env_height = env->data.height;
+    }
+    s.env_texels = ocl::Array<float4>::upload(dev, env ? env->texels : no_texels, "the environment map");
+    s.env_marginal = ocl::Array<float>::upload(dev, env ? env->marginal : no_table, "the environment's row CDF");
+    s.env_conditional = ocl::Array<float>::upload(dev, env ? env->conditional : no_table,
+                                                  "the environment's column CDFs");
+    st.env_bytes = env ? s.env_texels.bytes() + s.env_marginal.bytes() + s.env_conditional.bytes() : 0;
+    // A shadow ray towards the environment leaves the scene's bounds from any point in them.
+    Aabb b = scene.bounds();
+    float diag = b.empty() ? 1.0f : glm::length(b.hi - b.lo);
+    s.env_distance = 2.0f * std::max(diag, 1e-6f) + 1.0f;
+    // The spread of a pixel's cone: its angle at the image centre (Akenine-Möller et al.
+    // 2021: atan(2 tan(vfov / 2) / height)).
+    s.cone_spread = std::atan(2.0f * std::tan(glm::radians(scene.camera.vfov_deg) * 0.5f) /
+                              static_cast<float>(height));
+    d.warnings = std::move(app.warnings);
+
     st.scene_bytes = d.bvh.bytes + s.tris.bytes() + s.material_ids.bytes() + s.materials.bytes() +
-                     s.light_cdf.bytes() + s.light_prims.bytes() + s.light_pdf_area.bytes();
+                     s.light_cdf.bytes() + s.light_prims.bytes() + s.light_pdf_area.bytes() +
+                     st.texture_bytes + st.attribute_bytes + st.env_bytes;
     st.upload_ms = timer.ms();
     return d;
 }

@@ -7,6 +7,8 @@
 #pragma once
 
 #include <cstddef>
+#include <string>
+#include <vector>
 
 #include "bvh/device_bvh.h"
 #include "cl/kernel.h"
@@ -15,6 +17,18 @@
 #include "shared/types.h"
 
 namespace wp::render {
+
+// The texture data the alpha test (intersect, shadow) and shade read; placeholders when
+// no material has a texture or cut-out.
+struct TextureArrays {
+    ocl::Array<int> material_ids;                    // the shading scene's, shared
+    ocl::Array<MaterialTextures> material_textures;  // per material
+    ocl::Array<TriUVs> tri_uvs;                      // per triangle, scene order
+    ocl::Array<TextureData> textures;
+    ocl::Array<TextureView> views;
+    ocl::Array<cl_uint> texels8;
+    ocl::Array<float4> texelsf;
+};
 
 // What the shade stage reads of the scene, in the order its kernel takes them.
 struct ShadingScene {
@@ -27,6 +41,16 @@ struct ShadingScene {
     ocl::Array<int> light_prims;
     ocl::Array<float> light_pdf_area;
     int light_count = 0;
+    // Appearance (placeholders for features the scene lacks; KernelConfig).
+    ocl::Array<TriNormals> tri_normals;
+    ocl::Array<TriTangents> tri_tangents;
+    TextureArrays tex;
+    EnvData env{};
+    ocl::Array<float4> env_texels;
+    ocl::Array<float> env_marginal;
+    ocl::Array<float> env_conditional;
+    float env_distance = 0.0f;  // shadow rays towards the environment: beyond the scene
+    float cone_spread = 0.0f;   // ray cones: the camera's spread angle per pixel
 };
 
 struct SceneStats {
@@ -40,7 +64,13 @@ struct SceneStats {
     double bvh_build_ms = 0.0;
     double upload_ms = 0.0;   // flatten + upload
     double program_ms = 0.0;  // all program builds (or cache loads)
-    std::size_t scene_bytes = 0;  // device memory of the scene (BVH, shading data, lights)
+    std::size_t scene_bytes = 0;  // device memory of the scene (BVH, shading data, lights,
+                                  // appearance)
+    std::size_t texture_count = 0;     // images uploaded for materials
+    std::size_t texture_bytes = 0;     // their mip chains, views and material slots
+    std::size_t attribute_bytes = 0;   // normals, uvs, tangents
+    std::size_t env_bytes = 0;         // the environment map and its sampling tables
+    int env_width = 0, env_height = 0;
 };
 
 struct DeviceScene {
@@ -48,6 +78,7 @@ struct DeviceScene {
     ShadingScene shading;
     CameraData camera{};
     SceneStats stats;
+    std::vector<std::string> warnings;  // from the upload (e.g. an environment map not 2:1)
 
     // Builds the BVH and uploads; throws wp::Error for bad scenes or too little memory.
     static DeviceScene upload(const ocl::Device& dev, const Scene& scene, const KernelConfig& config,

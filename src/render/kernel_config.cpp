@@ -2,6 +2,8 @@
 
 #include <fmt/format.h>
 
+#include <vector>
+
 #include "util/error.h"
 
 namespace wp::render {
@@ -37,10 +39,28 @@ KernelConfig KernelConfig::from_scene(const Scene& scene, const Estimator& estim
     c.estimator = estimator;
     c.kinds.reset();
     c.emission = false;
-    for (const Material& m : scene.materials) {
+    // Only materials some triangle uses count for the appearance features.
+    std::vector<char> used(scene.materials.size(), 0);
+    for (std::uint32_t id : scene.material_ids)
+        if (id < used.size()) used[id] = 1;
+    for (std::size_t i = 0; i < scene.materials.size(); ++i) {
+        const Material& m = scene.materials[i];
         if (static_cast<int>(m.kind) < kMaterialKindCount) c.kinds.set(static_cast<std::size_t>(m.kind));
         c.emission |= m.emissive();
+        if (!used[i]) continue;
+        c.textures |= m.textured();  // a scene without uvs reads texel (0, 0)
+        c.normal_maps |= m.normal_map.used();
+        c.alpha_mask |= m.alpha_masked();
     }
+    for (const glm::vec3& n : scene.normals)
+        if (n != glm::vec3(0.0f)) {
+            c.normals = true;
+            break;
+        }
+    // A normal map needs a shading frame: the geometric normal serves where there are no
+    // vertex normals.
+    c.normals |= c.normal_maps;
+    c.env = scene.environment.has_value() && scene.environment->image >= 0;
     return c;
 }
 
@@ -59,11 +79,22 @@ std::string KernelConfig::shade_options() const {
     o += fmt::format("-D WP_HAVE_" #KIND "={} ", int(has(MaterialKind::Kind)));
     WP_MATERIAL_KINDS(WP_KIND_OPTION_)
 #undef WP_KIND_OPTION_
-    return o + fmt::format("-D WP_HAVE_EMISSION={} -D WP_SAMPLING={} -D WP_GLOSSY_MODEL={} "
-                           "-D WP_HAVE_NEE={} -D WP_RR_DEPTH={} -D WP_SAMPLER={}{}",
-                           int(emission), static_cast<int>(estimator.sampling),
-                           static_cast<int>(estimator.glossy), int(nee()), estimator.rr_depth,
-                           int(estimator.sobol), inject_options());
+    o += fmt::format("-D WP_HAVE_EMISSION={} -D WP_SAMPLING={} -D WP_GLOSSY_MODEL={} "
+                     "-D WP_HAVE_NEE={} -D WP_RR_DEPTH={} -D WP_SAMPLER={}",
+                     int(emission), static_cast<int>(estimator.sampling),
+                     static_cast<int>(estimator.glossy), int(nee()), estimator.rr_depth,
+                     int(estimator.sobol));
+    // The appearance switches only when on, so a scene without them keeps the program
+    // (and the cache key) it had before they existed.
+    if (normals) o += " -D WP_HAVE_NORMALS=1";
+    if (textures) o += " -D WP_HAVE_TEXTURES=1";
+    if (normal_maps) o += " -D WP_HAVE_NORMAL_MAPS=1";
+    if (env) o += " -D WP_HAVE_ENV=1";
+    return o + inject_options();
+}
+
+std::string KernelConfig::trace_options() const {
+    return alpha_mask ? "-D WP_HAVE_ALPHA_MASK=1" : "";
 }
 
 std::string KernelConfig::accumulate_options() const {

@@ -53,6 +53,12 @@ struct KernelConfig {
     // The material kinds some material uses (bit i: MaterialKind i), WP_HAVE_<KIND>.
     std::bitset<kMaterialKindCount> kinds = std::bitset<kMaterialKindCount>().set();
     bool emission = true;  // some material emits
+    // Appearance features (issue 13), each compiled only when the scene has it:
+    bool normals = false;      // some vertex has a shading normal (WP_HAVE_NORMALS)
+    bool textures = false;     // some material has a texture (WP_HAVE_TEXTURES; uvs too)
+    bool normal_maps = false;  // some material has a normal map (WP_HAVE_NORMAL_MAPS)
+    bool alpha_mask = false;   // some material is cut out (WP_HAVE_ALPHA_MASK: intersect, shadow)
+    bool env = false;          // the scene has an environment map (WP_HAVE_ENV)
     Estimator estimator;
     // Debug (render --debug-nan): WP_INJECT_* stage bits (kernels/shared/types.h) whose
     // guards get a NaN for every pixel p with p % inject_period == 0; 0 compiles nothing.
@@ -60,18 +66,22 @@ struct KernelConfig {
     int inject_period = 97;
 
     bool has(MaterialKind k) const { return kinds.test(static_cast<std::size_t>(k)); }
-    // Light sampling is compiled only when something emits and the strategy uses it.
+    // Light sampling is compiled only when something emits (a triangle or the environment)
+    // and the strategy uses it.
     bool nee() const {
-        return emission && (estimator.sampling == Sampling::Nee || estimator.sampling == Sampling::Mis);
+        return (emission || env) &&
+               (estimator.sampling == Sampling::Nee || estimator.sampling == Sampling::Mis);
     }
 
-    // Every material kind and emission on (the generic program); the given estimator.
+    // The material kinds, emission and appearance features the scene has; the given
+    // estimator.
     static KernelConfig from_scene(const Scene& scene, const Estimator& estimator = {});
 
     // Option slices, every switch a stage reads explicit:
     std::string generate_options() const;    // sampler, injection
     std::string shade_options() const;       // materials, estimator, NEE, injection
     std::string accumulate_options() const;  // injection
+    std::string trace_options() const;       // intersect and shadow: alpha cut-outs
     // What the renderer prints with -v: the shade slice, the largest.
     std::string options() const { return shade_options(); }
 

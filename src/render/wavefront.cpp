@@ -44,9 +44,9 @@ Wavefront::Wavefront(ocl::Device& dev, const Scene& scene, const RenderSettings&
     HostSpan span("programs");
     queues_ = QueueUpkeep(dev, &profiler_);
     generate_ = GenerateStage(dev, config_, &profiler_);
-    intersect_ = IntersectStage(dev, settings.traversal, &profiler_);
+    intersect_ = IntersectStage(dev, settings.traversal, config_.trace_options(), &profiler_);
     shade_ = ShadeStage(dev, config_, &profiler_);
-    if (config_.nee()) shadow_ = ShadowStage(dev, &profiler_);
+    if (config_.nee()) shadow_ = ShadowStage(dev, config_.trace_options(), &profiler_);
     accumulate_ = AccumulateStage(dev, config_, settings.variance, &profiler_);
     scene_.stats.program_ms = prog_timer.ms();
     dev.queue.finish();
@@ -115,14 +115,15 @@ void Wavefront::run_wave(int first_pixel, std::uint32_t first_sample, int count)
         const PathQueue& in = pool_.queue[b & 1];
         const PathQueue& out = pool_.queue[(b & 1) ^ 1];
         // Closest hits of the queued rays.
-        intersect_.enqueue(live, in, scene_.bvh, pool_.hits);
+        intersect_.enqueue(live, in, scene_.bvh, pool_.hits, &scene_.shading.tex);
         // Empty the queues shade fills (and count this bounce's rays).
         queues_.enqueue_reset(in.count, out.count, pool_.shadow.count, film_.ray_total);
         // Emission, scattering, light samples, push of the survivors.
         shade_.enqueue(live, in, pool_.hits, scene_.shading, settings_.seed, b, depth, pool_.radiance,
                        film_.counters, out, pool_.shadow);
         // Shadow rays of this bounce's light samples (none at the last bounce).
-        if (nee && b < depth) shadow_.enqueue(live, pool_.shadow, scene_.bvh, pool_.radiance, film_.ray_total);
+        if (nee && b < depth) shadow_.enqueue(live, pool_.shadow, scene_.bvh, pool_.radiance, film_.ray_total,
+                                              &scene_.shading.tex);
         if (b == depth) break;
         // Read this bounce's survivors without waiting; wait for the previous bounce's.
         dev_.queue.enqueueReadBuffer(out.count.buffer, CL_FALSE, 0, sizeof(int), &count_read_[b & 1],

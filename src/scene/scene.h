@@ -93,6 +93,8 @@ struct Material {
     TextureRef alpha_map;
     float alpha_factor = 1.0f;
     float alpha_cutoff = 0.5f;
+    // The material can be cut out: a coverage map, or a constant coverage below the cutoff.
+    bool alpha_masked() const { return alpha_map.used() || alpha_factor < alpha_cutoff; }
     bool textured() const {
         return albedo_map.used() || roughness_map.used() || emission_map.used() ||
                normal_map.used() || alpha_map.used();

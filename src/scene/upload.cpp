@@ -2,6 +2,8 @@
 
 #include <cmath>
 
+#include <glm/geometric.hpp>
+
 #include "util/error.h"
 
 namespace wp {
@@ -42,6 +44,118 @@ SceneUpload upload_scene(const Scene& scene) {
         up.materials.push_back(d);
     }
     up.background = row(scene.background);
+    return up;
+}
+
+namespace {
+
+// One tangent per triangle corner from the uv derivatives of its face, orthogonalised
+// against the corner's normal; scene.tangents where given.
+std::vector<glm::vec4> face_tangents(const Scene& scene) {
+    std::vector<glm::vec4> out(scene.triangles.size() * 3, glm::vec4(0.0f));
+    for (std::size_t i = 0; i < scene.triangles.size(); ++i) {
+        const glm::uvec3& t = scene.triangles[i];
+        glm::vec3 p0 = scene.positions[t.x], p1 = scene.positions[t.y], p2 = scene.positions[t.z];
+        glm::vec2 w0(0.0f), w1(0.0f), w2(0.0f);
+        if (!scene.uvs.empty()) w0 = scene.uvs[t.x], w1 = scene.uvs[t.y], w2 = scene.uvs[t.z];
+        glm::vec3 e1 = p1 - p0, e2 = p2 - p0;
+        glm::vec2 d1 = w1 - w0, d2 = w2 - w0;
+        float det = d1.x * d2.y - d2.x * d1.y;
+        glm::vec3 ng = glm::cross(e1, e2);
+        glm::vec3 tu = (e1 * d2.y - e2 * d1.y), tv = (e2 * d1.x - e1 * d2.x);
+        for (int k = 0; k < 3; ++k) {
+            if (!scene.tangents.empty() && glm::vec3(scene.tangents[t[k]]) != glm::vec3(0.0f)) {
+                out[3 * i + k] = scene.tangents[t[k]];
+                continue;
+            }
+            glm::vec3 n = ng;
+            if (!scene.normals.empty() && scene.normals[t[k]] != glm::vec3(0.0f)) n = scene.normals[t[k]];
+            float nl = glm::length(n);
+            if (!(nl > 0.0f) || !(std::abs(det) > 0.0f)) continue;  // zero: any frame
+            n /= nl;
+            glm::vec3 tt = tu * (det < 0.0f ? -1.0f : 1.0f);
+            tt -= n * glm::dot(n, tt);
+            // The bitangent points up the image (towards -v in wavepath's v-down uvs), as
+            // glTF's normal maps (+y up) and MikkTSpace with v-up uvs have it.
+            float w = glm::dot(glm::cross(n, tt), -tv * (det < 0.0f ? -1.0f : 1.0f)) < 0.0f ? -1.0f : 1.0f;
+            float tl = glm::length(tt);
+            if (tl > 0.0f && std::isfinite(tl)) out[3 * i + k] = glm::vec4(tt / tl, w);
+        }
+    }
+    return out;
+}
+
+// The device view of a material slot: -1 without a texture, else the index of a new view.
+int add_view(const TextureRef& r, const std::vector<int>& texture_slot, std::vector<TextureView>& views) {
+    if (!r.used()) return -1;
+    if (r.image >= static_cast<int>(texture_slot.size())) fail("texture {} does not exist", r.image);
+    TextureView v{};
+    const glm::mat3& m = r.uv_transform;  // column-major: m[col][row]
+    v.u_row = {m[0][0], m[1][0], m[2][0], 0.0f};
+    v.v_row = {m[0][1], m[1][1], m[2][1], 0.0f};
+    v.texture = texture_slot[r.image];
+    views.push_back(v);
+    return static_cast<int>(views.size() - 1);
+}
+
+}  // namespace
+
+AppearanceUpload upload_appearance(const Scene& scene, const AppearanceNeeds& needs) {
+    AppearanceUpload up;
+    const std::size_t n = scene.triangles.size();
+    auto vertex4 = [](const std::vector<glm::vec3>& a, std::uint32_t i) {
+        return i < a.size() ? row(a[i]) : float4{0.0f, 0.0f, 0.0f, 0.0f};
+    };
+    if (needs.normals) {
+        up.normals.reserve(n);
+        for (const glm::uvec3& t : scene.triangles)
+            up.normals.push_back({vertex4(scene.normals, t.x), vertex4(scene.normals, t.y),
+                                  vertex4(scene.normals, t.z)});
+    }
+    if (needs.uvs) {
+        up.uvs.reserve(n);
+        auto uv = [&](std::uint32_t i) { return i < scene.uvs.size() ? scene.uvs[i] : glm::vec2(0.0f); };
+        for (const glm::uvec3& t : scene.triangles) {
+            glm::vec2 a = uv(t.x), b = uv(t.y), c = uv(t.z);
+            up.uvs.push_back({{a.x, a.y, b.x, b.y}, {c.x, c.y, 0.0f, 0.0f}});
+        }
+        // Upload only the images some material uses, each once.
+        std::vector<int> slot(scene.textures.size(), -1);
+        std::vector<const Texture*> used;
+        for (const Material& m : scene.materials)
+            for (const TextureRef* r : {&m.albedo_map, &m.roughness_map, &m.emission_map, &m.normal_map, &m.alpha_map})
+                if (r->used() && r->image < static_cast<int>(slot.size()) && slot[r->image] < 0) {
+                    slot[r->image] = static_cast<int>(used.size());
+                    used.push_back(&scene.textures[r->image]);
+                }
+        up.textures = upload_textures(used);
+        for (const Material& m : scene.materials) {
+            MaterialTextures mt{};
+            mt.albedo = add_view(m.albedo_map, slot, up.views);
+            mt.roughness = uses_alpha(m.kind) ? add_view(m.roughness_map, slot, up.views) : -1;
+            mt.emission = add_view(m.emission_map, slot, up.views);
+            mt.normal = needs.tangents ? add_view(m.normal_map, slot, up.views) : -1;
+            mt.alpha = add_view(m.alpha_map, slot, up.views);
+            mt.alpha_cutoff = m.alpha_masked() ? m.alpha_cutoff : 0.0f;
+            mt.alpha_factor = m.alpha_factor;
+            mt.normal_scale = m.normal_scale;
+            up.material_textures.push_back(mt);
+        }
+    }
+    if (needs.tangents) {
+        std::vector<glm::vec4> ct = face_tangents(scene);
+        up.tangents.reserve(n);
+        for (std::size_t i = 0; i < n; ++i) {
+            auto r4 = [](glm::vec4 v) { return float4{v.x, v.y, v.z, v.w}; };
+            up.tangents.push_back({r4(ct[3 * i]), r4(ct[3 * i + 1]), r4(ct[3 * i + 2])});
+        }
+    }
+    if (needs.env && scene.environment) {
+        const Environment& e = *scene.environment;
+        if (e.image < 0 || e.image >= static_cast<int>(scene.textures.size()))
+            fail("scene '{}': the environment's image {} does not exist", scene.name, e.image);
+        up.env = upload_environment(e, scene.textures[e.image], up.warnings);
+    }
     return up;
 }
 

@@ -5,9 +5,13 @@
 // OpenCL buffers, so scene/ stays free of OpenCL.
 #pragma once
 
+#include <optional>
+#include <string>
 #include <vector>
 
+#include "scene/envmap.h"
 #include "scene/scene.h"
+#include "scene/texture.h"
 #include "shared/types.h"
 
 namespace wp {
@@ -29,6 +33,29 @@ struct LightTable {
     double total_power = 0.0;     // sum of area × luminance, for reports
     std::size_t size() const { return prims.size(); }
 };
+
+// Which appearance data the kernels read (render/kernel_config decides from the scene).
+struct AppearanceNeeds {
+    bool normals = false;   // TriNormals
+    bool uvs = false;       // TriUVs, MaterialTextures, views and textures (textures, alpha)
+    bool tangents = false;  // TriTangents (normal maps)
+    bool env = false;       // the environment map
+};
+
+// The appearance data of a scene in device layouts; each part empty when not needed.
+struct AppearanceUpload {
+    std::vector<TriNormals> normals;    // per triangle, scene order
+    std::vector<TriUVs> uvs;            // per triangle, scene order ((0, 0) without uvs)
+    std::vector<TriTangents> tangents;  // per triangle, scene order
+    std::vector<MaterialTextures> material_textures;  // per material
+    std::vector<TextureView> views;     // the texture slots of all materials
+    TextureUpload textures;             // the images materials use, mip-mapped
+    std::optional<EnvUpload> env;
+    std::vector<std::string> warnings;  // from the environment's upload
+};
+
+// Throws wp::Error for an environment or texture index out of range.
+AppearanceUpload upload_appearance(const Scene& scene, const AppearanceNeeds& needs);
 
 // Empty (no lights) when nothing emits. The probability of light k is taken as the float
 // difference cdf[k] - cdf[k - 1], which is exactly what the device's binary search draws.

@@ -1,18 +1,30 @@
 #include "render/stages/intersect.h"
 
+#include "util/error.h"
+
 namespace wp::render {
 
 const char* traversal_name(Traversal t) {
     return t == Traversal::Stack ? "stack" : "stackless";
 }
 
-IntersectStage::IntersectStage(const ocl::Device& dev, Traversal traversal, ocl::Profiler* profiler)
-    : target_{&dev.queue, profiler}, program_(ocl::Program::build(dev, "intersect.cl")),
+IntersectStage::IntersectStage(const ocl::Device& dev, Traversal traversal, const std::string& options,
+                               ocl::Profiler* profiler)
+    : target_{&dev.queue, profiler}, program_(ocl::Program::build(dev, "intersect.cl", options)),
       kernel_(program_, traversal == Traversal::Stack ? "intersect_closest_stack" : "intersect_closest",
-              "intersect.closest") {}
+              "intersect.closest"),
+      alpha_(options.find("WP_HAVE_ALPHA_MASK=1") != std::string::npos) {}
 
 ::cl::Event IntersectStage::enqueue(std::size_t launch, const PathQueue& queue,
-                                    const bvh::DeviceBvh& bvh, const ocl::Array<Hit>& hits) {
+                                    const bvh::DeviceBvh& bvh, const ocl::Array<Hit>& hits,
+                                    const TextureArrays* alpha) {
+    if (alpha_) {
+        if (!alpha) fail("intersect: built with alpha cut-outs but launched without their textures");
+        return kernel_.launch(target_, launch, queue.rays, queue.count, bvh.nodes, bvh.links,
+                              bvh.triangles, bvh.prim_ids, hits, alpha->material_ids,
+                              alpha->material_textures, alpha->tri_uvs, alpha->textures,
+                              alpha->views, alpha->texels8, alpha->texelsf);
+    }
     return kernel_.launch(target_, launch, queue.rays, queue.count, bvh.nodes, bvh.links,
                           bvh.triangles, bvh.prim_ids, hits);
 }

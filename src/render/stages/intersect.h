@@ -2,6 +2,7 @@
 #pragma once
 
 #include "bvh/device_bvh.h"
+#include "render/device_scene.h"
 #include "render/frame_state.h"
 
 namespace wp::render {
@@ -18,18 +19,22 @@ const char* traversal_name(Traversal t);
 class IntersectStage {
   public:
     IntersectStage() = default;
-    IntersectStage(const ocl::Device& dev, Traversal traversal, ocl::Profiler* profiler = nullptr);
+    // `options`: KernelConfig::trace_options() (alpha cut-outs).
+    IntersectStage(const ocl::Device& dev, Traversal traversal, const std::string& options = "",
+                   ocl::Profiler* profiler = nullptr);
 
     // intersect_closest(_stack): hits[i] for every queued ray i < queue.count[0]. `launch`
     // bounds the queue length (the count itself is read on the device).
+    // `alpha`: the texture arrays of the alpha test, when built with it (else ignored).
     ::cl::Event enqueue(std::size_t launch, const PathQueue& queue, const bvh::DeviceBvh& bvh,
-                        const ocl::Array<Hit>& hits);
+                        const ocl::Array<Hit>& hits, const TextureArrays* alpha = nullptr);
     const ocl::Program& program() const { return program_; }
 
   private:
     ocl::LaunchTarget target_;
     ocl::Program program_;
     ocl::Kernel kernel_;
+    bool alpha_ = false;
 };
 
 }  // namespace wp::render

@@ -15,7 +15,12 @@ ShadeStage::ShadeStage(const ocl::Device& dev, const KernelConfig& config, ocl::
     return kernel_.launch(target_, launch, in.rays, in.paths, in.count, hits, scene.tris,
                           scene.material_ids, scene.materials, scene.background, scene.light_cdf,
                           scene.light_prims, scene.light_pdf_area, cl_int(scene.light_count),
-                          cl_uint(seed), cl_int(bounce), cl_int(max_depth), radiance, counters,
+                          scene.tri_normals, scene.tex.tri_uvs, scene.tri_tangents,
+                          scene.tex.material_textures, scene.tex.textures, scene.tex.views,
+                          scene.tex.texels8, scene.tex.texelsf, scene.env, scene.env_texels,
+                          scene.env_marginal, scene.env_conditional, cl_float(scene.env_distance),
+                          cl_float(scene.cone_spread), cl_uint(seed), cl_int(bounce),
+                          cl_int(max_depth), radiance, counters,
                           out.rays, out.paths, out.count, shadow.rays, shadow.items,
                           shadow.contrib, shadow.count);
 }

@@ -3,6 +3,7 @@
 #pragma once
 
 #include "bvh/device_bvh.h"
+#include "render/device_scene.h"
 #include "render/frame_state.h"
 
 namespace wp::render {
@@ -10,18 +11,21 @@ namespace wp::render {
 class ShadowStage {
   public:
     ShadowStage() = default;
-    ShadowStage(const ocl::Device& dev, ocl::Profiler* profiler = nullptr);
+    // `options`: KernelConfig::trace_options() (alpha cut-outs).
+    ShadowStage(const ocl::Device& dev, const std::string& options = "", ocl::Profiler* profiler = nullptr);
 
     // shadow_trace: for every queued shadow ray without a hit, radiance[item] += contrib;
     // adds the queue length to ray_total.
     ::cl::Event enqueue(std::size_t launch, const ShadowQueue& shadow, const bvh::DeviceBvh& bvh,
-                        const ocl::Array<float4>& radiance, const ocl::Array<cl_ulong>& ray_total);
+                        const ocl::Array<float4>& radiance, const ocl::Array<cl_ulong>& ray_total,
+                        const TextureArrays* alpha = nullptr);
     const ocl::Program& program() const { return program_; }
 
   private:
     ocl::LaunchTarget target_;
     ocl::Program program_;
     ocl::Kernel kernel_;
+    bool alpha_ = false;
 };
 
 }  // namespace wp::render
