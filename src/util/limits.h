@@ -33,6 +33,12 @@ constexpr std::int64_t kMaxPixels = std::int64_t(1) << 28;
 constexpr int kDefaultWidth = 800;
 constexpr int kDefaultHeight = 600;
 
+// Texture images (scene/texture.h): each side 1..kMaxTextureSide texels, at most
+// kMaxTexturePixels texels (a 16384 x 8192 environment map; 2 GiB as float RGBA), checked
+// from the file's header before any pixel is read.
+constexpr int kMaxTextureSide = 32768;
+constexpr std::int64_t kMaxTexturePixels = std::int64_t(1) << 27;
+
 // Paths in flight (--pool): 0 picks the size automatically (render/frame_state.cpp).
 constexpr std::int64_t kMaxPool = std::int64_t(1) << 30;
 
