@@ -141,6 +141,11 @@ int run_render(const RenderArgs& a) {
         return ocl::Device::open(a.config.device);
     }();
     render::Wavefront wf(dev, scene, s);
+    if (!a.quiet) {
+        for (const auto& w : wf.scene_warnings()) fmt::print(stderr, "wavepath: warning: {}\n", w);
+        std::string app = render::describe_appearance(wf.stats());
+        if (!app.empty()) fmt::print(stderr, "wavepath: device memory for appearance: {}\n", app);
+    }
     // Host spans go onto the device's clock in the trace (measured once, before the render).
     const std::int64_t host_offset_ns = a.profile.empty() ? 0 : render::device_clock_offset_ns(dev);
     if (a.verbose) {

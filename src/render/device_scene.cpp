@@ -7,6 +7,8 @@
 #include <glm/geometric.hpp>
 #include <glm/trigonometric.hpp>
 
+#include <fmt/format.h>
+
 #include "bvh/build.h"
 #include "bvh/flatten.h"
 #include "scene/upload.h"
@@ -14,6 +16,20 @@
 #include "util/timer.h"
 
 namespace wp::render {
+
+std::string describe_appearance(const SceneStats& st) {
+    auto mib = [](std::size_t b) { return fmt::format("{:.1f} MiB", double(b) / (1024.0 * 1024.0)); };
+    std::vector<std::string> parts;
+    if (st.texture_count > 0)
+        parts.push_back(fmt::format("textures: {} image{}, {} (mip-mapped)", st.texture_count,
+                                    st.texture_count == 1 ? "" : "s", mib(st.texture_bytes)));
+    if (st.attribute_bytes > 0) parts.push_back(fmt::format("vertex attributes {}", mib(st.attribute_bytes)));
+    if (st.env_bytes > 0)
+        parts.push_back(fmt::format("environment {}x{}, {}", st.env_width, st.env_height, mib(st.env_bytes)));
+    std::string s;
+    for (const auto& p : parts) s += (s.empty() ? "" : "; ") + p;
+    return s;
+}
 
 DeviceScene DeviceScene::upload(const ocl::Device& dev, const Scene& scene, const KernelConfig& config,
                                 int width, int height, bool jitter) {

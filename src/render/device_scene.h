@@ -73,6 +73,10 @@ struct SceneStats {
     int env_width = 0, env_height = 0;
 };
 
+// "textures: 3 images, 5.3 MiB (mip-mapped); vertex attributes 1.2 MiB; environment
+// 2048x1024, 42.7 MiB" — the device memory of the appearance data; "" when the scene has none.
+std::string describe_appearance(const SceneStats& stats);
+
 struct DeviceScene {
     bvh::DeviceBvh bvh;
     ShadingScene shading;

@@ -94,6 +94,8 @@ class Wavefront {
     const KernelConfig& config() const { return config_; }
     const std::string& options() const { return options_; }
     const SceneStats& stats() const { return scene_.stats; }
+    // Warnings of the scene's upload (e.g. an environment map that is not 2:1).
+    const std::vector<std::string>& scene_warnings() const { return scene_.warnings; }
     ocl::Profiler& profiler() { return profiler_; }
     ocl::Device& device() { return dev_; }
     std::size_t pool_capacity() const { return pool_.capacity(); }

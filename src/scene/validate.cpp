@@ -77,6 +77,7 @@ void validate_scene(const Scene& scene) {
 
 bool has_light(const Scene& scene) {
     if (glm::any(glm::greaterThan(scene.background, glm::vec3(0.0f)))) return true;
+    if (scene.environment && scene.environment->image >= 0 && scene.environment->scale > 0.0f) return true;
     for (std::uint32_t id : scene.material_ids)
         if (id < scene.materials.size() && scene.materials[id].emissive()) return true;
     return false;
@@ -84,8 +85,8 @@ bool has_light(const Scene& scene) {
 
 std::string no_light_warning(const std::string& source) {
     return fmt::format(
-        "{}: no light: no triangle emits (no material with emission is used) and the "
-        "background is black, so the image will be black",
+        "{}: no light: no triangle emits (no material with emission is used), there is no "
+        "environment map and the background is black, so the image will be black",
         source);
 }
 

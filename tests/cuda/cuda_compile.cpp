@@ -47,6 +47,13 @@ namespace {
 // The configuration `wavepath render` ships for the shade stage, every material kind on:
 // the renderer's own option string (render/kernel_config.h), not a copy of it.
 const std::string kShipped = render::KernelConfig{}.shade_options();
+// The same with every appearance feature of issue 13 on (normals, textures, normal maps,
+// the environment, alpha cut-outs), from the renderer's own option strings.
+const std::string kAppearance = [] {
+    render::KernelConfig c;
+    c.normals = c.textures = c.normal_maps = c.env = c.alpha_mask = true;
+    return c.shade_options() + " " + c.trace_options();
+}();
 
 std::string read_text(const fs::path& p) {
     std::ifstream in(p, std::ios::binary);
@@ -163,6 +170,10 @@ int main(int argc, char** argv) {
         auto reads = [&](const char* macro) { return source.find(macro) != std::string::npos; };
         if (reads("WP_STATS")) sets[1] += " -D WP_STATS", labels[1] += " + WP_STATS";
         if (reads("WP_INJECT_NAN")) sets[1] += " -D WP_INJECT_NAN=7", labels[1] += " + WP_INJECT_NAN=7";
+        if (reads("WP_HAVE_NORMALS") || reads("WP_HAVE_ALPHA_MASK")) {
+            sets.push_back(kAppearance);
+            labels.push_back("shipped + appearance");
+        }
         if (reads("WP_PLAIN_TRIANGLES")) {
             sets.push_back(std::string(kShipped) + " -D WP_PLAIN_TRIANGLES");
             labels.push_back("shipped + WP_PLAIN_TRIANGLES");
