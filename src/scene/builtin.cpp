@@ -91,8 +91,12 @@ Scene make_cornell_box(int object_triangles) {
                              glm::rotate(glm::mat4(1.0f), glm::radians(17.0f), ey);
     add(transform(make_box({-0.3f, 0.0f, -0.3f}, {0.3f, 1.2f, 0.3f}, n), box_to_world), glossy);
 
-    // Mirror sphere: radius 0.4, resting 1 mm above the floor at front right
-    add(make_uv_sphere({0.42f, 0.401f, 0.3f}, 0.4f, rings, segments), mirror);
+    // Mirror sphere: radius 0.4, resting 1 mm above the floor at front right, with its
+    // analytic normals (the walls and the box get zero normals: they shade flat)
+    const glm::vec3 sphere_center(0.42f, 0.401f, 0.3f);
+    const Mesh sphere = make_uv_sphere(sphere_center, 0.4f, rings, segments);
+    s.add_mesh(sphere.positions, sphere.triangles, mirror,
+               sphere_normals(sphere.positions, sphere_center));
 
     // Camera: the front opening (y in [0, 2] at z = 1) fills the frame height
     s.camera.position = glm::vec3(0.0f, 1.0f, 3.9f);

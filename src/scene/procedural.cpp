@@ -161,6 +161,17 @@ Mesh make_icosphere(glm::vec3 center, float radius, int subdivisions) {
     return m;
 }
 
+std::vector<glm::vec3> sphere_normals(const std::vector<glm::vec3>& positions, glm::vec3 center) {
+    std::vector<glm::vec3> normals;
+    normals.reserve(positions.size());
+    for (const auto& p : positions) {
+        const glm::dvec3 d = glm::dvec3(p) - glm::dvec3(center);
+        const double len = glm::length(d);
+        normals.push_back(len > 0.0 ? glm::vec3(d / len) : glm::vec3(0.0f));
+    }
+    return normals;
+}
+
 Mesh make_random_soup(std::size_t n, std::uint64_t seed, glm::vec3 lo, glm::vec3 hi,
                       float max_edge) {
     if (!glm::all(glm::lessThanEqual(lo, hi))) fail("make_random_soup: lo must not exceed hi");

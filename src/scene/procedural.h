@@ -34,6 +34,12 @@ Mesh make_box(glm::vec3 lo, glm::vec3 hi, int n = 1);
 // (>= 3); poles are single vertices. 2 * segments * (rings - 1) triangles.
 Mesh make_uv_sphere(glm::vec3 center, float radius, int rings, int segments);
 
+// The exact normals of a tessellated sphere around `center`: (p - center) / |p - center|
+// per position (computed in double; zero at the centre itself), for Scene::add_mesh's
+// normals argument, so the sphere shades smooth (its vertices lie on the sphere, so this is
+// the analytic normal there).
+std::vector<glm::vec3> sphere_normals(const std::vector<glm::vec3>& positions, glm::vec3 center);
+
 // An icosahedron whose triangles are split in four `subdivisions` times, vertices pushed
 // onto the sphere. 20 * 4^subdivisions triangles.
 Mesh make_icosphere(glm::vec3 center, float radius, int subdivisions);
