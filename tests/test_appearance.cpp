@@ -256,7 +256,7 @@ TEST_CASE("render: alpha cut-outs are invisible to camera, bounce and shadow ray
         Material light;
         light.emission = glm::vec3(5.0f);
         std::uint32_t lm = s.add_material(light);
-        Mesh l = make_quad({-0.5f, 2.0f, -0.5f}, {0, 0, 1}, {1, 0, 0});  // faces down
+        Mesh l = make_quad({-0.5f, 2.0f, -0.5f}, {1, 0, 0}, {0, 0, 1});  // normal x cross z = -y: faces down
         s.add_mesh(l.positions, l.triangles, lm);
         return s;
     };

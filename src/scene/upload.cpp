@@ -4,6 +4,7 @@
 
 #include <glm/geometric.hpp>
 
+#include "scene/normals.h"
 #include "util/error.h"
 
 namespace wp {
@@ -48,42 +49,6 @@ SceneUpload upload_scene(const Scene& scene) {
 }
 
 namespace {
-
-// One tangent per triangle corner from the uv derivatives of its face, orthogonalised
-// against the corner's normal; scene.tangents where given.
-std::vector<glm::vec4> face_tangents(const Scene& scene) {
-    std::vector<glm::vec4> out(scene.triangles.size() * 3, glm::vec4(0.0f));
-    for (std::size_t i = 0; i < scene.triangles.size(); ++i) {
-        const glm::uvec3& t = scene.triangles[i];
-        glm::vec3 p0 = scene.positions[t.x], p1 = scene.positions[t.y], p2 = scene.positions[t.z];
-        glm::vec2 w0(0.0f), w1(0.0f), w2(0.0f);
-        if (!scene.uvs.empty()) w0 = scene.uvs[t.x], w1 = scene.uvs[t.y], w2 = scene.uvs[t.z];
-        glm::vec3 e1 = p1 - p0, e2 = p2 - p0;
-        glm::vec2 d1 = w1 - w0, d2 = w2 - w0;
-        float det = d1.x * d2.y - d2.x * d1.y;
-        glm::vec3 ng = glm::cross(e1, e2);
-        glm::vec3 tu = (e1 * d2.y - e2 * d1.y), tv = (e2 * d1.x - e1 * d2.x);
-        for (int k = 0; k < 3; ++k) {
-            if (!scene.tangents.empty() && glm::vec3(scene.tangents[t[k]]) != glm::vec3(0.0f)) {
-                out[3 * i + k] = scene.tangents[t[k]];
-                continue;
-            }
-            glm::vec3 n = ng;
-            if (!scene.normals.empty() && scene.normals[t[k]] != glm::vec3(0.0f)) n = scene.normals[t[k]];
-            float nl = glm::length(n);
-            if (!(nl > 0.0f) || !(std::abs(det) > 0.0f)) continue;  // zero: any frame
-            n /= nl;
-            glm::vec3 tt = tu * (det < 0.0f ? -1.0f : 1.0f);
-            tt -= n * glm::dot(n, tt);
-            // The bitangent points up the image (towards -v in wavepath's v-down uvs), as
-            // glTF's normal maps (+y up) and MikkTSpace with v-up uvs have it.
-            float w = glm::dot(glm::cross(n, tt), -tv * (det < 0.0f ? -1.0f : 1.0f)) < 0.0f ? -1.0f : 1.0f;
-            float tl = glm::length(tt);
-            if (tl > 0.0f && std::isfinite(tl)) out[3 * i + k] = glm::vec4(tt / tl, w);
-        }
-    }
-    return out;
-}
 
 // The device view of a material slot: -1 without a texture, else the index of a new view.
 int add_view(const TextureRef& r, const std::vector<int>& texture_slot, std::vector<TextureView>& views) {
@@ -143,7 +108,7 @@ AppearanceUpload upload_appearance(const Scene& scene, const AppearanceNeeds& ne
         }
     }
     if (needs.tangents) {
-        std::vector<glm::vec4> ct = face_tangents(scene);
+        std::vector<glm::vec4> ct = corner_tangents(scene);  // MikkTSpace-like, scene/normals.h
         up.tangents.reserve(n);
         for (std::size_t i = 0; i < n; ++i) {
             auto r4 = [](glm::vec4 v) { return float4{v.x, v.y, v.z, v.w}; };
