@@ -224,16 +224,28 @@ TEST_CASE("parse_obj: large concave polygons are fanned with a warning",
 
 TEST_CASE("parse_obj: vertex normals and texture coordinates do not change the winding",
           "[scene][obj][parser]") {
-    // The normal says -z, the winding says +z: wavepath uses the winding (geometric normal)
+    // The normal says -z, the winding says +z: the winding (geometric normal) stays as written,
+    // the normal is kept as the shading normal
     wp::Scene s = wp::parse_obj("v 0 0 0\nv 1 0 0\nv 0 1 0\nvn 0 0 -1\nvt 0 0\n"
                                 "f 1/1/1 2/1/1 3/1/1\nf 3//1 2//1 1//1\n",
                                 "n.obj");
     REQUIRE(s.triangle_count() == 2);
-    CHECK(s.triangles[0] == glm::uvec3(0, 1, 2));
-    CHECK(s.triangles[1] == glm::uvec3(2, 1, 0));
-    // A normal index that does not exist is ignored as well (normals are not used)
-    CHECK(wp::parse_obj("v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1//7 2//7 3//7\n", "n.obj").triangle_count() ==
-          1);
+    const glm::vec3 p[3] = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}};
+    for (int k = 0; k < 3; ++k) {
+        CHECK(s.positions[s.triangles[0][k]] == p[k]);
+        CHECK(s.positions[s.triangles[1][k]] == p[2 - k]);
+    }
+    REQUIRE(s.normals.size() == s.positions.size());
+    for (const auto& n : s.normals) CHECK(n == glm::vec3(0, 0, -1));
+    // A normal index that does not exist is ignored, with a warning: no normals at all here
+    wp::Scene t = wp::parse_obj("v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1//7 2//7 3//7\n", "n.obj");
+    CHECK(t.triangle_count() == 1);
+    CHECK(t.normals.empty());
+    CHECK(t.triangles[0] == glm::uvec3(0, 1, 2));
+    bool named = false;  // (tinyobjloader warns as well)
+    for (const auto& w : t.warnings)
+        named = named || (w.find("n.obj: 3 face corner(s)") != std::string::npos);
+    CHECK(named);
 }
 
 TEST_CASE("parse_obj: materials missing from the MTL get the visible default, with warnings",

@@ -9,6 +9,7 @@
 #include <cmath>
 #include <cstring>
 #include <limits>
+#include <map>
 #include <optional>
 #include <vector>
 
@@ -17,6 +18,7 @@
 #include <assimp/postprocess.h>
 #include <assimp/scene.h>
 
+#include "scene/texture.h"
 #include "scene/validate.h"
 #include "util/error.h"
 #include "util/read_file.h"
@@ -227,6 +229,30 @@ std::array<int, 3> xyz_index(const PlyElement& e) {
     return r;
 }
 
+// Index of the float properties nx, ny, nz and of the texture coordinates (the names Assimp's
+// PLY reader takes: u/s/tx/texture_u/texture_s and v/t/ty/texture_v/texture_t) in a vertex
+// element, or -1.
+struct PlyAttributes {
+    std::array<int, 3> normal{-1, -1, -1};
+    std::array<int, 2> uv{-1, -1};
+    bool has_normal() const { return normal[0] >= 0 && normal[1] >= 0 && normal[2] >= 0; }
+    bool has_uv() const { return uv[0] >= 0 && uv[1] >= 0; }
+};
+PlyAttributes attribute_index(const PlyElement& e) {
+    PlyAttributes r;
+    if (e.name != "vertex") return r;
+    for (std::size_t i = 0; i < e.props.size(); ++i) {
+        if (e.props[i].list || !e.props[i].is_float) continue;
+        const auto& n = e.props[i].name;
+        if (n == "nx") r.normal[0] = int(i);
+        if (n == "ny") r.normal[1] = int(i);
+        if (n == "nz") r.normal[2] = int(i);
+        if (n == "u" || n == "s" || n == "tx" || n == "texture_u" || n == "texture_s") r.uv[0] = int(i);
+        if (n == "v" || n == "t" || n == "ty" || n == "texture_v" || n == "texture_t") r.uv[1] = int(i);
+    }
+    return r;
+}
+
 std::uint64_t read_uint(const unsigned char* p, int size, bool big_endian, bool is_signed,
                         bool& negative) {
     std::uint64_t v = 0;
@@ -239,7 +265,7 @@ std::uint64_t read_uint(const unsigned char* p, int size, bool big_endian, bool 
 }
 
 double read_float(const unsigned char* p, int size, bool big_endian) {
-    unsigned char b[8];
+    unsigned char b[8] = {};
     for (int i = 0; i < size; ++i) b[i] = p[big_endian ? size - 1 - i : i];
     if (size == 4) {
         float f;
@@ -256,6 +282,8 @@ double read_float(const unsigned char* p, int size, bool big_endian) {
 struct PlyGeometry {
     bool complete = false;  // x, y, z all found and a face list found
     std::vector<glm::vec3> positions;
+    std::vector<glm::vec3> normals;  // nx, ny, nz when all three are float properties
+    std::vector<glm::vec2> uvs;      // (u, v) as in the file when both are float properties
     std::vector<std::uint32_t> face_sizes;
     std::vector<std::uint32_t> indices;
 };
@@ -289,7 +317,11 @@ void check_ply_binary(std::string_view bytes, const PlyHeader& h, const std::str
                 if (e.props[k].list && !e.props[k].is_float &&
                     (e.props[k].name == "vertex_indices" || e.props[k].name == "vertex_index"))
                     face_list = int(k);
+        const PlyAttributes attr = attribute_index(e);
+        const bool with_normal = all_xyz && attr.has_normal(), with_uv = all_xyz && attr.has_uv();
         if (all_xyz) geo.positions.reserve(e.count);
+        if (with_normal) geo.normals.reserve(e.count);
+        if (with_uv) geo.uvs.reserve(e.count);
         if (face_list >= 0) geo.face_sizes.reserve(e.count);
         if (fixed && !check_xyz) {
             std::uint64_t row = 0;
@@ -299,6 +331,9 @@ void check_ply_binary(std::string_view bytes, const PlyHeader& h, const std::str
             continue;
         }
         for (std::uint64_t i = 0; i < e.count; ++i) {
+            if (all_xyz) geo.positions.emplace_back(0.0f);
+            if (with_normal) geo.normals.emplace_back(0.0f);
+            if (with_uv) geo.uvs.emplace_back(0.0f);
             for (std::size_t k = 0; k < e.props.size(); ++k) {
                 const PlyProperty& p = e.props[k];
                 if (p.list) {
@@ -329,12 +364,18 @@ void check_ply_binary(std::string_view bytes, const PlyHeader& h, const std::str
                         if (!std::isfinite(v) || !std::isfinite(float(v)))
                             fail("{}: vertex {} (byte {}) has a non-finite coordinate {} = {}",
                                  file, i, pos, p.name, v);
-                        if (all_xyz) {
-                            if (int(k) == std::min({xyz[0], xyz[1], xyz[2]}))
-                                geo.positions.emplace_back(0.0f);
+                        if (all_xyz)
                             geo.positions.back()[int(k) == xyz[0] ? 0 : int(k) == xyz[1] ? 1 : 2] =
                                 float(v);
-                        }
+                    } else if (with_normal && (int(k) == attr.normal[0] ||
+                                               int(k) == attr.normal[1] || int(k) == attr.normal[2])) {
+                        geo.normals.back()[int(k) == attr.normal[0] ? 0
+                                           : int(k) == attr.normal[1] ? 1
+                                                                       : 2] =
+                            float(read_float(data + pos, p.size, be));
+                    } else if (with_uv && (int(k) == attr.uv[0] || int(k) == attr.uv[1])) {
+                        geo.uvs.back()[int(k) == attr.uv[0] ? 0 : 1] =
+                            float(read_float(data + pos, p.size, be));
                     }
                     pos += std::uint64_t(p.size);
                 }
@@ -427,7 +468,7 @@ glm::mat4 to_glm(const aiMatrix4x4& m) {
 
 // Approximations met while mapping materials, one warning each per file.
 struct MaterialNotes {
-    int specular = 0, textures = 0, opacity = 0, clamped = 0;
+    int specular = 0, textures = 0, opacity = 0, clamped = 0, uv_channel = 0, raw_embedded = 0;
 };
 
 // Assimp's own "DefaultMaterial" (a format without materials) is not converted: nullopt.
@@ -460,11 +501,57 @@ std::optional<Material> convert_material(const aiMaterial& am, MaterialNotes& no
     float opacity = 1.0f;
     if (am.Get(AI_MATKEY_OPACITY, opacity) == AI_SUCCESS && opacity < 1.0f) ++notes.opacity;
     for (int t = aiTextureType_DIFFUSE; t <= AI_TEXTURE_TYPE_MAX; ++t)
-        if (am.GetTextureCount(aiTextureType(t)) > 0) {
-            ++notes.textures;
+        if (am.GetTextureCount(aiTextureType(t)) > (t == aiTextureType_DIFFUSE ? 1u : 0u)) {
+            ++notes.textures;  // (the first diffuse texture is read: diffuse_texture)
             break;
         }
     return m;
+}
+
+// The first diffuse texture of a material: a file relative to the model's folder, or an
+// embedded compressed image ("*N" or its name); nullopt when there is none or it cannot be
+// used (a folder or device, an uncompressed embedded texel array: noted).
+std::optional<TextureRef> diffuse_texture(const aiScene& as, const aiMaterial& am, Scene& scene,
+                                          const std::filesystem::path& dir,
+                                          const std::string& file, MaterialNotes& notes,
+                                          std::map<std::string, int>& embedded) {
+    namespace fs = std::filesystem;
+    aiString path;
+    unsigned uv_index = 0;
+    if (am.GetTextureCount(aiTextureType_DIFFUSE) == 0 ||
+        am.GetTexture(aiTextureType_DIFFUSE, 0, &path, nullptr, &uv_index) != AI_SUCCESS)
+        return std::nullopt;
+    std::string name = path.C_Str();
+    if (name.empty()) return std::nullopt;
+    if (uv_index != 0) ++notes.uv_channel;
+    TextureRef r;
+    if (const aiTexture* t = as.GetEmbeddedTexture(name.c_str())) {
+        if (t->mHeight != 0 || !t->pcData || t->mWidth == 0) {
+            ++notes.raw_embedded;
+            return std::nullopt;
+        }
+        auto it = embedded.find(name);
+        if (it == embedded.end()) {
+            const std::string bytes(reinterpret_cast<const char*>(t->pcData), t->mWidth);
+            scene.textures.push_back(load_texture_from_memory(
+                bytes, fmt::format("{}: embedded texture '{}'", file, printable(name)),
+                TextureUse::Colour, scene.warnings));
+            it = embedded.emplace(name, int(scene.textures.size() - 1)).first;
+        }
+        r.image = it->second;
+        return r;
+    }
+    std::replace(name.begin(), name.end(), '\\', '/');  // paths written on Windows
+    const fs::path p = dir / fs::path(name);
+    std::error_code ec;
+    const fs::file_status st = fs::status(p, ec);
+    if (fs::exists(st) && !fs::is_regular_file(st)) {
+        scene.warnings.push_back(fmt::format("{}: texture '{}' is not a regular file; ignored",
+                                             file, p.string()));
+        return std::nullopt;
+    }
+    r.image = add_texture_file(scene, p, TextureUse::Colour);
+    return r;
 }
 
 // True when Assimp read exactly what the binary walker decoded.
@@ -539,6 +626,13 @@ Scene parse_assimp(std::string_view bytes, const std::string& extension,
     if (ply && ply->format != PlyFormat::Ascii && ply_geo.complete && !assimp_matches(as, ply_geo)) {
         std::uint64_t skipped = 0, at = 0;
         scene.positions = ply_geo.positions;
+        scene.normals = ply_geo.normals;
+        for (glm::vec3& n : scene.normals)
+            if (!std::isfinite(n.x) || !std::isfinite(n.y) || !std::isfinite(n.z)) n = glm::vec3(0.0f);
+        scene.uvs.reserve(ply_geo.uvs.size());
+        for (const glm::vec2& t : ply_geo.uvs)  // v up in the file: stored 1 - v
+            scene.uvs.push_back(std::isfinite(t.x) && std::isfinite(t.y) ? glm::vec2(t.x, 1.0f - t.y)
+                                                                        : glm::vec2(0.0f));
         for (std::size_t f = 0; f < ply_geo.face_sizes.size(); ++f) {
             const std::uint32_t n = ply_geo.face_sizes[f];
             for (std::uint32_t k = 0; k < n; ++k)
@@ -677,11 +771,19 @@ Scene parse_assimp(std::string_view bytes, const std::string& extension,
     std::vector<std::uint32_t> used(as->mNumMaterials, ~0u);
     std::uint32_t default_id = ~0u;
     MaterialNotes notes;
+    std::map<std::string, int> embedded;  // embedded texture name -> scene texture
     auto material_for = [&](unsigned index) -> std::uint32_t {
         if (has_materials && index < as->mNumMaterials && as->mMaterials && as->mMaterials[index]) {
             if (used[index] == ~0u) {
-                if (auto m = convert_material(*as->mMaterials[index], notes))
+                if (auto m = convert_material(*as->mMaterials[index], notes)) {
+                    // A diffuse texture replaces the diffuse colour (Collada, FBX)
+                    if (auto t = diffuse_texture(*as, *as->mMaterials[index], scene,
+                                                 origin.parent_path(), file, notes, embedded)) {
+                        m->albedo_map = *t;
+                        m->albedo = glm::vec3(1.0f);
+                    }
                     used[index] = scene.add_material(*m);
+                }
             }
             if (used[index] != ~0u) return used[index];
         }
@@ -689,14 +791,24 @@ Scene parse_assimp(std::string_view bytes, const std::string& extension,
         return default_id;
     };
 
-    // Geometry: positions transformed, triangles kept (mirroring transforms flip winding)
+    // Geometry: positions transformed, normals by the inverse transpose, the first uv set as
+    // (u, 1 - v) (Assimp's uvs are v-up without aiProcess_FlipUVs); triangles kept
+    // (mirroring transforms flip winding)
     scene.positions.reserve(total_verts);
     scene.triangles.reserve(total_tris);
     scene.material_ids.reserve(total_tris);
-    std::uint64_t skipped = 0;
+    std::uint64_t skipped = 0, non_finite = 0;
+    std::vector<glm::vec3> pos, nrm;
+    std::vector<glm::vec2> uv;
+    std::vector<glm::uvec3> tris;
     for (const Instance& inst : instances) {
         const aiMesh* m = as->mMeshes[inst.mesh];
-        const auto base = static_cast<std::uint32_t>(scene.positions.size());
+        const glm::mat3 linear(inst.to_world);
+        const glm::mat3 normal_matrix = glm::transpose(glm::inverse(linear));
+        pos.clear();
+        nrm.clear();
+        uv.clear();
+        tris.clear();
         for (unsigned v = 0; v < m->mNumVertices; ++v) {
             const aiVector3D& p = m->mVertices[v];
             glm::vec3 w = glm::vec3(inst.to_world * glm::vec4(p.x, p.y, p.z, 1.0f));
@@ -704,9 +816,26 @@ Scene parse_assimp(std::string_view bytes, const std::string& extension,
                 fail("{}: mesh {} ('{}'): vertex {} is not finite after its node transform ({}, "
                      "{}, {})",
                      file, inst.mesh, printable(m->mName.C_Str()), v, w.x, w.y, w.z);
-            scene.positions.push_back(w);
+            pos.push_back(w);
         }
-        const bool mirror = glm::determinant(glm::mat3(inst.to_world)) < 0.0f;
+        if (m->mNormals) {
+            nrm.resize(m->mNumVertices, glm::vec3(0.0f));
+            for (unsigned v = 0; v < m->mNumVertices; ++v) {
+                const aiVector3D& n = m->mNormals[v];
+                const glm::vec3 w = normal_matrix * glm::vec3(n.x, n.y, n.z);
+                if (std::isfinite(w.x) && std::isfinite(w.y) && std::isfinite(w.z)) nrm[v] = w;
+                else ++non_finite;  // (zero: no normal at this vertex)
+            }
+        }
+        if (m->mTextureCoords[0] && m->mNumUVComponents[0] >= 2) {
+            uv.resize(m->mNumVertices, glm::vec2(0.0f));
+            for (unsigned v = 0; v < m->mNumVertices; ++v) {
+                const aiVector3D& t = m->mTextureCoords[0][v];
+                if (std::isfinite(t.x) && std::isfinite(t.y)) uv[v] = glm::vec2(t.x, 1.0f - t.y);
+                else ++non_finite;
+            }
+        }
+        const bool mirror = glm::determinant(linear) < 0.0f;
         const std::uint32_t mat = material_for(m->mMaterialIndex);
         for (unsigned f = 0; f < m->mNumFaces; ++f) {
             const aiFace& face = m->mFaces[f];
@@ -719,12 +848,15 @@ Scene parse_assimp(std::string_view bytes, const std::string& extension,
                 if (t[k] >= m->mNumVertices)
                     fail("{}: mesh {}: triangle {} uses vertex {} of {}", file, inst.mesh, f, t[k],
                          m->mNumVertices);
-            t += glm::uvec3(base);
             if (mirror) std::swap(t.y, t.z);
-            scene.triangles.push_back(t);
-            scene.material_ids.push_back(mat);
+            tris.push_back(t);
         }
+        scene.add_mesh(pos, tris, mat, nrm, uv);
     }
+    if (non_finite > 0)
+        scene.warnings.push_back(fmt::format(
+            "{}: {} normal(s) or texture coordinate(s) are not finite; replaced by none / (0, 0)",
+            file, non_finite));
     if (scene.triangles.empty()) fail("{}: no triangles (the file has no faces with 3 or more vertices)", file);
     if (skipped > 0)
         scene.warnings.push_back(fmt::format(
@@ -735,8 +867,19 @@ Scene parse_assimp(std::string_view bytes, const std::string& extension,
             "ignored)",
             file, notes.specular));
     if (notes.textures > 0)
-        scene.warnings.push_back(
-            fmt::format("{}: {} material(s) have textures; textures are ignored", file, notes.textures));
+        scene.warnings.push_back(fmt::format(
+            "{}: {} material(s) have textures other than their first diffuse one; those are "
+            "ignored",
+            file, notes.textures));
+    if (notes.uv_channel > 0)
+        scene.warnings.push_back(fmt::format(
+            "{}: {} diffuse texture(s) ask for a uv channel other than the first; only the first "
+            "is read, so they use it",
+            file, notes.uv_channel));
+    if (notes.raw_embedded > 0)
+        scene.warnings.push_back(fmt::format(
+            "{}: {} embedded texture(s) are uncompressed texel arrays; not supported, ignored",
+            file, notes.raw_embedded));
     if (notes.opacity > 0)
         scene.warnings.push_back(fmt::format(
             "{}: {} material(s) have opacity < 1; transparency is ignored (opaque)", file,

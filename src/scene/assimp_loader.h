@@ -25,15 +25,26 @@
 //     skips whitespace bytes after "end_header" and misreads files whose data starts with one,
 //     so when they differ the walker's vertices and faces (polygons as fans) are used.
 //
+// Vertex attributes: per-vertex normals (PLY nx, ny, nz; any format's normals) →
+// Scene::normals, transformed by the inverse transpose of the node transform; the first uv
+// set (PLY u/v, s/t, texture_u/texture_v, ...) → Scene::uvs as (u, 1 - v) (Assimp's uvs are
+// v-up: aiProcess_FlipUVs is not used). The binary PLY walker decodes both too, for the
+// files where its decoding replaces Assimp's. Non-finite values become none / (0, 0) (one
+// warning). Tangents are not read (the renderer computes them where a normal map needs them).
+//
 // Materials: PLY, STL and OFF have none: every triangle gets the mid-grey (0.5) diffuse
 // material "default", without a warning. Other formats map each used material:
 //   diffuse colour  → Diffuse albedo (clamped to [0, 1]; 0.5 grey when absent)
+//   first diffuse texture → albedo_map (colour; a file relative to the model's folder, or an
+//                     embedded compressed image), with albedo 1 (the texture replaces the
+//                     colour, as in Collada and FBX)
 //   emissive colour → emission (× emissive intensity when given; negative → 0)
 //   Assimp's own "DefaultMaterial" → wavepath's "default"
-// with ONE warning per approximation kind per file: specular colour ignored, textures
-// ignored, opacity < 1 ignored, albedo clamped. Cameras and lights in the file are ignored;
-// the camera frames the geometry as load_obj does (800 x 600, 40 degrees, from +z), black
-// background.
+// with ONE warning per approximation kind per file: specular colour ignored, other textures
+// ignored, a diffuse texture on another uv channel (read with the first), uncompressed
+// embedded textures ignored, opacity < 1 ignored, albedo clamped. Cameras and lights in the
+// file are ignored; the camera frames the geometry as load_obj does (800 x 600, 40 degrees,
+// from +z), black background.
 //
 // Limits against hostile input: files up to 2 GiB, PLY element counts up to 2^28, header up
 // to 1 MiB, at most 2^25 triangles and 2^27 vertices after instancing (checked before

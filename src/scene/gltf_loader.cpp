@@ -4,6 +4,7 @@
 #include <cctype>
 #include <cmath>
 #include <cstring>
+#include <map>
 #include <optional>
 
 #include <glm/gtc/matrix_transform.hpp>
@@ -12,8 +13,8 @@
 // tinygltf is compiled here, in its own namespace, rather than called in Debian's
 // libtinygltf.so: libdraco.so.7 (linked through Assimp) exports an older tinygltf with a
 // different TinyGLTF layout, and the dynamic linker binds the shared library's entry points
-// to it (heap corruption). Renaming the namespace makes every symbol ours. Images are never
-// decoded (textures are ignored), so stb_image is left out.
+// to it (heap corruption). Renaming the namespace makes every symbol ours. Images are
+// decoded by scene/texture.h (OpenImageIO), not by tinygltf, so stb_image is left out.
 #define tinygltf wp_tinygltf
 #define TINYGLTF_IMPLEMENTATION
 #define TINYGLTF_NO_STB_IMAGE
@@ -21,6 +22,7 @@
 #define TINYGLTF_NO_EXTERNAL_IMAGE
 #include <tiny_gltf.h>
 
+#include "scene/texture.h"
 #include "scene/validate.h"
 #include "util/error.h"
 #include "util/limits.h"
@@ -96,9 +98,17 @@ bool fs_write(std::string* err, const std::string&, const std::vector<unsigned c
     if (err) *err += "wavepath never writes files while loading glTF\n";
     return false;
 }
-bool no_image(tinygltf::Image*, const int, std::string*, std::string*, int, int,
-              const unsigned char*, int, void*) {
-    return true;  // textures are ignored: images are not decoded
+// tinygltf's image hook: images are decoded later, by scene/texture.h. A data: URI arrives
+// here decoded from base64: its bytes are kept in Image::image (as_is). An image in a buffer
+// view arrives as a pointer that tinygltf has not bounds-checked: it is ignored here and read
+// later with the checks of accessor_view.
+bool keep_image_bytes(tinygltf::Image* image, const int, std::string*, std::string*, int, int,
+                      const unsigned char* bytes, int size, void*) {
+    if (image->bufferView < 0 && bytes && size > 0) {
+        image->image.assign(bytes, bytes + size);
+        image->as_is = true;
+    }
+    return true;
 }
 
 // tinygltf's messages as lines.
@@ -220,13 +230,273 @@ View accessor_view(const tinygltf::Model& model, int index, std::size_t elem_siz
 
 // Approximations met while mapping materials: one warning each per file.
 struct Notes {
-    int textures = 0, partial_metal = 0, alpha = 0, rough_glass = 0, clamped = 0;
+    int partial_metal = 0, rough_glass = 0, clamped = 0;
     int modes = 0, sparse = 0, quantized = 0, ortho = 0;
+    int metallic_map = 0, occlusion = 0, blend = 0, cut_out = 0, wrap = 0, texcoord = 0;
+    int no_source = 0, attributes = 0, non_finite = 0, bad_transform = 0;
 };
 
-Material convert_material(const tinygltf::Material& gm, Notes& notes) {
+// Percent-decoding of a relative URI ("my%20tex.png" -> "my tex.png").
+std::string decode_uri(const std::string& uri) {
+    std::string out;
+    auto hex = [](char c) -> int {
+        if (c >= '0' && c <= '9') return c - '0';
+        if (c >= 'a' && c <= 'f') return c - 'a' + 10;
+        if (c >= 'A' && c <= 'F') return c - 'A' + 10;
+        return -1;
+    };
+    for (std::size_t i = 0; i < uri.size(); ++i) {
+        if (uri[i] == '%' && i + 2 < uri.size() && hex(uri[i + 1]) >= 0 && hex(uri[i + 2]) >= 0) {
+            out.push_back(char(hex(uri[i + 1]) * 16 + hex(uri[i + 2])));
+            i += 2;
+        } else {
+            out.push_back(uri[i]);
+        }
+    }
+    return out;
+}
+
+// Coverage A × factor below cutoff at some texel (bilinear and mip-mapped lookups are
+// weighted means of texels, so no lookup goes below the smallest texel).
+bool cuts_out(const Texture& t, float factor, float cutoff) {
+    const std::size_t n = std::size_t(std::max(t.width, 0)) * std::size_t(std::max(t.height, 0));
+    if (t.is_float()) {
+        for (std::size_t i = 0; i < n && 4 * i + 3 < t.texelsf.size(); ++i)
+            if (!(t.texelsf[4 * i + 3] * factor >= cutoff)) return true;
+        return false;
+    }
+    for (std::size_t i = 0; i < n && 4 * i + 3 < t.texels8.size(); ++i)
+        if (!(float(t.texels8[4 * i + 3]) / 255.0f * factor >= cutoff)) return true;
+    return false;
+}
+
+// KHR_texture_transform's matrix T × R × S on uv (column-major, as the extension writes it):
+// T = [1 0 ox; 0 1 oy; 0 0 1], R = [cos r  sin r  0; -sin r  cos r  0; 0 0 1] (columns
+// (cos, sin), (-sin, cos)), S = diag(sx, sy, 1).
+glm::mat3 texture_transform(glm::vec2 offset, float rotation, glm::vec2 scale) {
+    glm::mat3 t(1.0f), r(1.0f), s(1.0f);
+    t[2][0] = offset.x;
+    t[2][1] = offset.y;
+    const float c = std::cos(rotation), sn = std::sin(rotation);
+    r[0][0] = c;
+    r[0][1] = sn;
+    r[1][0] = -sn;
+    r[1][1] = c;
+    s[0][0] = scale.x;
+    s[1][1] = scale.y;
+    return t * r * s;
+}
+
+// Textures of glTF materials into the scene: images decoded once per (image, use), samplers
+// read (NEAREST magnification; wrap modes other than REPEAT noted), uv transforms.
+struct GltfTextures {
+    const tinygltf::Model& model;
+    Scene& scene;
+    fs::path base_dir;
+    std::string file;
+    Notes& notes;
+    std::map<std::pair<int, int>, int> loaded;     // (image, use) -> scene texture
+    std::map<std::pair<int, bool>, int> filtered;  // (scene texture, nearest) -> variant
+    std::vector<char> handed_out;                  // scene textures some slot uses
+
+    // The scene texture of image `ii` for `use`, or -1 (with a warning) when it has no data.
+    int image(int ii, TextureUse use, const std::string& where) {
+        if (ii < 0 || std::size_t(ii) >= model.images.size())
+            fail("{}: {} refers to images[{}], but there are {}", file, where, ii,
+                 model.images.size());
+        auto key = std::make_pair(ii, int(use));
+        if (auto it = loaded.find(key); it != loaded.end()) return it->second;
+        const tinygltf::Image& img = model.images[std::size_t(ii)];
+        const std::string name = fmt::format("{}: images[{}]{}", file, ii,
+                                             img.name.empty() ? "" : " ('" + img.name + "')");
+        int index = -1;
+        if (img.bufferView >= 0) {  // GLB or a buffer: bounds-checked here
+            if (std::size_t(img.bufferView) >= model.bufferViews.size())
+                fail("{}: images[{}] refers to bufferViews[{}], but there are {}", file, ii,
+                     img.bufferView, model.bufferViews.size());
+            const tinygltf::BufferView& bv = model.bufferViews[std::size_t(img.bufferView)];
+            if (bv.buffer < 0 || std::size_t(bv.buffer) >= model.buffers.size())
+                fail("{}: bufferViews[{}] refers to buffers[{}], but there are {}", file,
+                     img.bufferView, bv.buffer, model.buffers.size());
+            const auto& data = model.buffers[std::size_t(bv.buffer)].data;
+            if (bv.byteOffset > data.size() || bv.byteLength > data.size() - bv.byteOffset)
+                fail("{}: images[{}]: bufferViews[{}] (bytes {} to {}) lies outside buffers[{}] "
+                     "of {} bytes",
+                     file, ii, img.bufferView, bv.byteOffset, bv.byteOffset + bv.byteLength,
+                     bv.buffer, data.size());
+            const std::string bytes(reinterpret_cast<const char*>(data.data()) + bv.byteOffset,
+                                    bv.byteLength);
+            scene.textures.push_back(load_texture_from_memory(bytes, name, use, scene.warnings));
+            index = int(scene.textures.size() - 1);
+        } else if (img.as_is && !img.image.empty()) {  // a data: URI
+            const std::string bytes(img.image.begin(), img.image.end());
+            scene.textures.push_back(load_texture_from_memory(bytes, name, use, scene.warnings));
+            index = int(scene.textures.size() - 1);
+        } else if (!img.uri.empty()) {  // a file beside the .gltf
+            const fs::path path = base_dir / fs::path(decode_uri(img.uri));
+            std::error_code ec;
+            const fs::file_status st = fs::status(path, ec);
+            if (fs::exists(st) && !fs::is_regular_file(st))
+                scene.warnings.push_back(fmt::format(
+                    "{}: images[{}] '{}' is not a regular file; its textures are ignored", file,
+                    ii, path.string()));
+            else
+                index = add_texture_file(scene, path, use);
+        } else {
+            scene.warnings.push_back(fmt::format(
+                "{}: images[{}] has no data (an empty data: URI?); its textures are ignored",
+                file, ii));
+        }
+        loaded[key] = index;
+        return index;
+    }
+
+    // The slot of a textureInfo (index, texCoord, extensions), or nullopt.
+    std::optional<TextureRef> ref(int index, int tex_coord,
+                                  const tinygltf::ExtensionMap& extensions, TextureUse use,
+                                  const std::string& where) {
+        if (index < 0) return std::nullopt;
+        if (std::size_t(index) >= model.textures.size())
+            fail("{}: {} refers to textures[{}], but there are {}", file, where, index,
+                 model.textures.size());
+        const tinygltf::Texture& tex = model.textures[std::size_t(index)];
+        if (tex.source < 0) {  // only an extension's image (KTX2, WebP, ...)
+            ++notes.no_source;
+            return std::nullopt;
+        }
+        bool nearest = false;
+        if (tex.sampler >= 0) {
+            if (std::size_t(tex.sampler) >= model.samplers.size())
+                fail("{}: textures[{}] refers to samplers[{}], but there are {}", file, index,
+                     tex.sampler, model.samplers.size());
+            const tinygltf::Sampler& smp = model.samplers[std::size_t(tex.sampler)];
+            if (smp.wrapS != TINYGLTF_TEXTURE_WRAP_REPEAT ||
+                smp.wrapT != TINYGLTF_TEXTURE_WRAP_REPEAT)
+                ++notes.wrap;
+            nearest = smp.magFilter == TINYGLTF_TEXTURE_FILTER_NEAREST;
+        }
+        int image_index = image(tex.source, use, fmt::format("textures[{}]", index));
+        if (image_index < 0) return std::nullopt;
+        TextureRef r;
+        r.image = with_filter(image_index, nearest);
+
+        // KHR_texture_transform: offset, rotation, scale; texCoord overrides
+        auto it = extensions.find("KHR_texture_transform");
+        if (it != extensions.end() && it->second.IsObject()) {
+            const tinygltf::Value& v = it->second;
+            bool ok = true;
+            auto number = [&](const tinygltf::Value& n, float fallback) {
+                if (!n.IsNumber()) {
+                    ok = false;
+                    return fallback;
+                }
+                const double d = n.GetNumberAsDouble();
+                if (!std::isfinite(d)) ok = false;
+                return std::isfinite(d) ? float(d) : fallback;
+            };
+            auto pair = [&](const char* key, glm::vec2 fallback) {
+                if (!v.Has(key)) return fallback;
+                const tinygltf::Value& a = v.Get(key);
+                if (!a.IsArray() || a.ArrayLen() != 2) {
+                    ok = false;
+                    return fallback;
+                }
+                return glm::vec2(number(a.Get(0), fallback.x), number(a.Get(1), fallback.y));
+            };
+            const glm::vec2 offset = pair("offset", glm::vec2(0.0f));
+            const glm::vec2 scale = pair("scale", glm::vec2(1.0f));
+            const float rotation = v.Has("rotation") ? number(v.Get("rotation"), 0.0f) : 0.0f;
+            if (v.Has("texCoord")) {
+                const tinygltf::Value& tc = v.Get("texCoord");
+                tex_coord = tc.IsNumber() ? tc.GetNumberAsInt() : tex_coord;
+            }
+            if (ok)
+                r.uv_transform = texture_transform(offset, rotation, scale);
+            else
+                ++notes.bad_transform;
+        }
+        if (tex_coord != 0) ++notes.texcoord;
+        handed_out.resize(scene.textures.size(), 0);
+        handed_out[std::size_t(r.image)] = 1;
+        return r;
+    }
+
+    // The texture with the filter asked for: itself when it has it or no slot uses it yet,
+    // else a copy with the other filter (one per texture).
+    int with_filter(int index, bool nearest) {
+        handed_out.resize(scene.textures.size(), 0);
+        Texture& t = scene.textures[std::size_t(index)];
+        if (t.nearest == nearest) return index;
+        if (!handed_out[std::size_t(index)]) {
+            t.nearest = nearest;
+            return index;
+        }
+        auto key = std::make_pair(index, nearest);
+        if (auto it = filtered.find(key); it != filtered.end()) return it->second;
+        Texture copy = t;
+        copy.nearest = nearest;
+        scene.textures.push_back(std::move(copy));
+        filtered[key] = int(scene.textures.size() - 1);
+        return filtered[key];
+    }
+};
+
+// Vertex attribute `name` of a primitive as `comps` floats per vertex (`count` vertices, as
+// POSITION): FLOAT, or with `normalized_ok` normalized unsigned byte / short (TEXCOORD_n).
+// False when the primitive has none, or (noted) an accessor wavepath does not read
+// (sparse, another type, quantized); a wrong count or bounds fail.
+bool read_attribute(const tinygltf::Model& model, const tinygltf::Primitive& prim,
+                    const char* name, int type, int comps, bool normalized_ok, std::size_t count,
+                    const std::string& file, const std::string& where, Notes& notes,
+                    std::vector<float>& out) {
+    auto it = prim.attributes.find(name);
+    if (it == prim.attributes.end()) return false;
+    const int ai = it->second;
+    if (ai < 0 || std::size_t(ai) >= model.accessors.size())
+        fail("{}: {} {} refers to accessors[{}], but there are {}", file, where, name, ai,
+             model.accessors.size());
+    const tinygltf::Accessor& a = model.accessors[std::size_t(ai)];
+    int csize = 0;
+    if (a.componentType == TINYGLTF_COMPONENT_TYPE_FLOAT) csize = 4;
+    else if (normalized_ok && a.normalized &&
+             a.componentType == TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE) csize = 1;
+    else if (normalized_ok && a.normalized &&
+             a.componentType == TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT) csize = 2;
+    if (a.sparse.isSparse || a.type != type || csize == 0) {
+        ++notes.attributes;
+        return false;
+    }
+    if (a.count != count)
+        fail("{}: {} {} (accessors[{}]) has {} elements, but POSITION has {}", file, where, name,
+             ai, a.count, count);
+    const View v = accessor_view(model, ai, std::size_t(comps * csize), file, where + " " + name);
+    out.resize(count * std::size_t(comps));
+    for (std::size_t i = 0; i < count; ++i) {
+        const unsigned char* q = v.at(i);
+        for (int k = 0; k < comps; ++k) {
+            float f;
+            if (csize == 4) {
+                std::memcpy(&f, q + 4 * k, 4);
+            } else if (csize == 1) {
+                f = float(q[k]) / 255.0f;
+            } else {
+                std::uint16_t u;
+                std::memcpy(&u, q + 2 * k, 2);
+                f = float(u) / 65535.0f;
+            }
+            out[i * std::size_t(comps) + std::size_t(k)] = f;
+        }
+    }
+    return true;
+}
+
+// A glTF material as wavepath's, with `cut_out` set when alphaMode MASK/BLEND without a
+// texture leaves nothing of the surface (factor below the cutoff).
+Material convert_material(const tinygltf::Material& gm, int index, GltfTextures& tex,
+                          Notes& notes, bool& cut_out) {
     Material m;
     m.name = gm.name.empty() ? std::string("unnamed") : gm.name;
+    const std::string where = fmt::format("materials[{}]", index);
     const auto& pbr = gm.pbrMetallicRoughness;
     glm::vec3 base(1.0f);
     float alpha = 1.0f;
@@ -235,6 +505,7 @@ Material convert_material(const tinygltf::Material& gm, Notes& notes) {
                          float(pbr.baseColorFactor[2]));
         alpha = float(pbr.baseColorFactor[3]);
     }
+    if (!std::isfinite(alpha)) alpha = 1.0f;
     for (int k = 0; k < 3; ++k)
         if (!std::isfinite(base[k])) base[k] = 0.5f;
     const glm::vec3 clamped = glm::clamp(base, glm::vec3(0.0f), glm::vec3(1.0f));
@@ -289,11 +560,48 @@ Material convert_material(const tinygltf::Material& gm, Notes& notes) {
         m.emission = e;
     }
 
-    if (pbr.baseColorTexture.index >= 0 || pbr.metallicRoughnessTexture.index >= 0 ||
-        gm.normalTexture.index >= 0 || gm.occlusionTexture.index >= 0 ||
-        gm.emissiveTexture.index >= 0)
-        ++notes.textures;
-    if (gm.alphaMode == "BLEND" || gm.alphaMode == "MASK" || alpha < 1.0f) ++notes.alpha;
+    // Textures: base colour (× the factor), roughness (G; glossy only), emission (× the
+    // factor; only where it is > 0), normal map; occlusion and metallic are not modelled
+    const auto& bct = pbr.baseColorTexture;
+    std::optional<TextureRef> base_map =
+        tex.ref(bct.index, bct.texCoord, bct.extensions, TextureUse::Colour,
+                where + ".pbrMetallicRoughness.baseColorTexture");
+    if (base_map) m.albedo_map = *base_map;
+    const auto& mrt = pbr.metallicRoughnessTexture;
+    if (mrt.index >= 0) {
+        ++notes.metallic_map;
+        if (m.kind == MaterialKind::Glossy)
+            if (auto r = tex.ref(mrt.index, mrt.texCoord, mrt.extensions, TextureUse::Data,
+                                 where + ".pbrMetallicRoughness.metallicRoughnessTexture"))
+                m.roughness_map = *r;
+    }
+    if (m.emissive())
+        if (auto r = tex.ref(gm.emissiveTexture.index, gm.emissiveTexture.texCoord,
+                             gm.emissiveTexture.extensions, TextureUse::Colour,
+                             where + ".emissiveTexture"))
+            m.emission_map = *r;
+    if (auto r = tex.ref(gm.normalTexture.index, gm.normalTexture.texCoord,
+                         gm.normalTexture.extensions, TextureUse::Data, where + ".normalTexture")) {
+        m.normal_map = *r;
+        m.normal_scale = std::isfinite(gm.normalTexture.scale) ? float(gm.normalTexture.scale) : 1.0f;
+    }
+    if (gm.occlusionTexture.index >= 0) ++notes.occlusion;
+
+    // Alpha: MASK (BLEND approximated as MASK at 0.5); coverage = base colour A × factor
+    cut_out = false;
+    if (gm.alphaMode == "MASK" || gm.alphaMode == "BLEND") {
+        const bool blend = gm.alphaMode == "BLEND";
+        if (blend) ++notes.blend;
+        m.alpha_factor = std::clamp(alpha, 0.0f, 1.0f);
+        m.alpha_cutoff = !blend && std::isfinite(gm.alphaCutoff) ? float(gm.alphaCutoff) : 0.5f;
+        if (base_map) {
+            if (cuts_out(tex.scene.textures[std::size_t(base_map->image)], m.alpha_factor,
+                         m.alpha_cutoff))
+                m.alpha_map = *base_map;  // (else every texel is kept: no test needed)
+        } else if (m.alpha_factor < m.alpha_cutoff) {
+            cut_out = true;
+        }
+    }
     return m;
 }
 
@@ -311,7 +619,7 @@ Scene parse_gltf(std::string_view bytes, const fs::path& origin) {
     tinygltf::TinyGLTF loader;
     tinygltf::FsCallbacks cb{&fs_exists, &fs_expand, &fs_read, &fs_write, nullptr};
     loader.SetFsCallbacks(cb);
-    loader.SetImageLoader(&no_image, nullptr);
+    loader.SetImageLoader(&keep_image_bytes, nullptr);
     tinygltf::Model model;
     std::string err, warn;
     std::string base_dir = origin.parent_path().string();
@@ -362,18 +670,25 @@ Scene parse_gltf(std::string_view bytes, const fs::path& origin) {
     }
 
     Notes notes;
-    std::vector<std::uint32_t> mat_ids(model.materials.size(), ~0u);
-    std::uint32_t default_id = ~0u;
+    GltfTextures textures{model, scene, fs::path(base_dir), file, notes, {}, {}, {}};
+    constexpr std::uint32_t kUnset = ~0u, kCutOut = ~0u - 1;  // (ids past any real one)
+    std::vector<std::uint32_t> mat_ids(model.materials.size(), kUnset);
+    std::uint32_t default_id = kUnset;
+    // The scene material of a primitive's material index; kCutOut when nothing of it is left
     auto material_for = [&](int index) -> std::uint32_t {
         if (index >= 0 && std::size_t(index) < model.materials.size()) {
-            if (mat_ids[index] == ~0u)
-                mat_ids[index] = scene.add_material(convert_material(model.materials[index], notes));
+            if (mat_ids[index] == kUnset) {
+                bool cut_out = false;
+                Material m = convert_material(model.materials[index], index, textures, notes,
+                                              cut_out);
+                mat_ids[index] = cut_out ? kCutOut : scene.add_material(m);
+            }
             return mat_ids[index];
         }
         if (index >= 0)
             fail("{}: a primitive refers to materials[{}], but there are {}", file, index,
                  model.materials.size());
-        if (default_id == ~0u) {
+        if (default_id == kUnset) {
             Material d;
             d.name = "default";
             d.albedo = glm::vec3(0.5f);
@@ -513,8 +828,15 @@ Scene parse_gltf(std::string_view bytes, const fs::path& origin) {
                     fail("{}: {}: more than {} triangles or {} vertices in all (the limit)", file,
                          where, kMaxTriangles, kMaxVertices);
 
+                const std::uint32_t mat = material_for(prim.material);
+                if (mat == kCutOut) {  // alpha MASK/BLEND, no texture, factor < cutoff
+                    ++notes.cut_out;
+                    continue;
+                }
+
                 // Positions to world space, checked
-                const auto base = static_cast<std::uint32_t>(scene.positions.size());
+                std::vector<glm::vec3> pos;
+                pos.reserve(pv.count);
                 for (std::size_t i = 0; i < pv.count; ++i) {
                     float p[3];
                     std::memcpy(p, pv.at(i), 12);
@@ -526,9 +848,63 @@ Scene parse_gltf(std::string_view bytes, const fs::path& origin) {
                     if (!std::isfinite(w.x) || !std::isfinite(w.y) || !std::isfinite(w.z))
                         fail("{}: {} vertex {} is not finite after the node transform", file, where,
                              i);
-                    scene.positions.push_back(w);
+                    pos.push_back(w);
                 }
-                const std::uint32_t mat = material_for(prim.material);
+
+                // Attributes: normals by the inverse transpose, tangents as vectors (their
+                // bitangent sign flips with a mirroring transform: b = w cross(n, t) must
+                // stay the transformed bitangent), uvs as they are (top-left origin already)
+                std::vector<float> nf, uf, tf;
+                const bool has_n = read_attribute(model, prim, "NORMAL", TINYGLTF_TYPE_VEC3, 3,
+                                                  false, pv.count, file, where, notes, nf);
+                const bool has_uv = read_attribute(model, prim, "TEXCOORD_0", TINYGLTF_TYPE_VEC2,
+                                                   2, true, pv.count, file, where, notes, uf);
+                bool has_t = read_attribute(model, prim, "TANGENT", TINYGLTF_TYPE_VEC4, 4, false,
+                                            pv.count, file, where, notes, tf);
+                if (has_t && !has_n) {  // a tangent frame needs the normal
+                    ++notes.attributes;
+                    has_t = false;
+                }
+                const glm::mat3 linear(world);
+                const glm::mat3 normal_matrix = glm::transpose(glm::inverse(linear));
+                auto finite3 = [](glm::vec3 v) {
+                    return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z);
+                };
+                std::vector<glm::vec3> nrm;
+                std::vector<glm::vec2> uv;
+                std::vector<glm::vec4> tan;
+                if (has_n) {
+                    nrm.resize(pv.count);
+                    for (std::size_t i = 0; i < pv.count; ++i) {
+                        const glm::vec3 n(nf[3 * i], nf[3 * i + 1], nf[3 * i + 2]);
+                        const glm::vec3 w = normal_matrix * n;
+                        if (finite3(n) && finite3(w)) nrm[i] = w;
+                        else ++notes.non_finite;  // (zero: this vertex has no normal)
+                    }
+                }
+                if (has_uv) {
+                    uv.resize(pv.count);
+                    for (std::size_t i = 0; i < pv.count; ++i) {
+                        const glm::vec2 t(uf[2 * i], uf[2 * i + 1]);
+                        if (std::isfinite(t.x) && std::isfinite(t.y)) uv[i] = t;
+                        else ++notes.non_finite;
+                    }
+                }
+                if (has_t) {
+                    tan.resize(pv.count);
+                    for (std::size_t i = 0; i < pv.count; ++i) {
+                        const glm::vec3 t(tf[4 * i], tf[4 * i + 1], tf[4 * i + 2]);
+                        const float sign = tf[4 * i + 3] < 0.0f ? -1.0f : 1.0f;
+                        const glm::vec3 w = linear * t;
+                        if (finite3(t) && finite3(w) && std::isfinite(tf[4 * i + 3]))
+                            tan[i] = glm::vec4(w, mirror ? -sign : sign);
+                        else ++notes.non_finite;
+                    }
+                }
+
+                // Triangles (local indices; a mirroring transform reverses the winding)
+                std::vector<glm::uvec3> tris;
+                tris.reserve(ntri);
                 for (std::size_t t = 0; t < ntri; ++t) {
                     glm::uvec3 tri;
                     for (int k = 0; k < 3; ++k) {
@@ -547,12 +923,12 @@ Scene parse_gltf(std::string_view bytes, const fs::path& origin) {
                                 fail("{}: {} index {} is {}, but POSITION has {} vertices", file,
                                      where, 3 * t + k, v, pv.count);
                         }
-                        tri[k] = base + v;
+                        tri[k] = v;
                     }
                     if (mirror) std::swap(tri.y, tri.z);
-                    scene.triangles.push_back(tri);
-                    scene.material_ids.push_back(mat);
+                    tris.push_back(tri);
                 }
+                scene.add_mesh(pos, tris, mat, nrm, uv, tan);
             }
         }
         for (auto c = node.children.rbegin(); c != node.children.rend(); ++c)
@@ -564,9 +940,27 @@ Scene parse_gltf(std::string_view bytes, const fs::path& origin) {
     auto note = [&](int n, const std::string& text) {
         if (n > 0) scene.warnings.push_back(fmt::format("{}: {}", file, fmt::format(fmt::runtime(text), n)));
     };
-    note(notes.textures, "{} material(s) use textures; textures are ignored (factors only)");
     note(notes.partial_metal, "{} material(s) have metallicFactor between 0 and 1; rounded to 0 or 1");
-    note(notes.alpha, "{} material(s) use alpha (BLEND, MASK or base alpha < 1); rendered opaque");
+    note(notes.metallic_map, "{} material(s) have a metallicRoughnessTexture; its roughness (G) is "
+                             "read for glossy metals, its metallic (B) is not modelled "
+                             "(metallicFactor decides)");
+    note(notes.occlusion, "{} material(s) have an occlusionTexture; ignored (a path tracer "
+                          "computes occlusion)");
+    note(notes.blend, "{} material(s) use alphaMode BLEND; approximated as MASK with cutoff 0.5");
+    note(notes.cut_out, "{} primitive(s) have alphaMode MASK/BLEND with base colour alpha below "
+                        "the cutoff and no texture; nothing of them is rendered");
+    note(notes.wrap, "{} texture use(s) have a sampler wrap mode other than REPEAT; only repeat "
+                     "is supported");
+    note(notes.texcoord, "{} texture use(s) ask for a texCoord set other than 0; only "
+                         "TEXCOORD_0 is read, so they use it");
+    note(notes.no_source, "{} texture use(s) have no `source` image (only an extension's "
+                          "image format); ignored");
+    note(notes.bad_transform, "{} KHR_texture_transform(s) have non-numeric or non-finite "
+                              "values; ignored");
+    note(notes.attributes, "{} NORMAL, TEXCOORD_0 or TANGENT accessor(s) are sparse, of another "
+                           "type or quantized (or a TANGENT without NORMAL); ignored");
+    note(notes.non_finite, "{} normal, uv or tangent value(s) are not finite; replaced by none "
+                           "(zero) or (0, 0)");
     note(notes.rough_glass, "{} transmissive material(s) are rough; rendered as smooth glass");
     note(notes.clamped, "{} material(s) have baseColorFactor outside [0, 1]; clamped");
     note(notes.modes, "{} primitive(s) are not TRIANGLES (points, lines, strips, fans); skipped");

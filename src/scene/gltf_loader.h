@@ -10,6 +10,16 @@
 // accessor is bounds-checked against its buffer view and buffer (tinygltf does not always).
 // Degenerate triangles are kept.
 //
+// Vertex attributes: NORMAL (VEC3 float) → Scene::normals, transformed by the inverse
+// transpose of the node's world matrix; TEXCOORD_0 (VEC2 float, or normalized unsigned
+// byte / short) → Scene::uvs as they are (glTF's origin is the image's top-left, as
+// wavepath's); TANGENT (VEC4 float) → Scene::tangents, xyz transformed as a vector, w (the
+// bitangent sign) negated under a mirroring transform so that w · cross(n, t) stays the
+// transformed bitangent (TANGENT without NORMAL is dropped). Primitives without an attribute
+// get zeros (none) where others have it (Scene::add_mesh). An attribute accessor of another
+// type, sparse or quantized is skipped (noted once); one with another count than POSITION
+// fails; non-finite values become none / (0, 0) (noted once).
+//
 // Materials (metallic-roughness → wavepath), first rule that matches wins:
 //   KHR_materials_transmission, transmissionFactor >= 0.5 → Glass, ior = KHR_materials_ior
 //                                                          (1.5 when absent), albedo = base
@@ -18,10 +28,27 @@
 //                                                            roughness alpha (at most 1)
 //   otherwise                                               → Diffuse, albedo = base colour
 // base colour = baseColorFactor rgb, clamped to [0, 1]; emission = emissiveFactor ×
-// KHR_materials_emissive_strength (any kind). ONE warning per file for each approximation:
-// textures ignored (all of them: base colour, metallic-roughness, normal, occlusion,
-// emissive), metallic between 0 and 1 rounded, alpha (alphaMode BLEND/MASK or base alpha
-// < 1) ignored, rough glass rendered smooth. Specular/dielectric reflection of non-metals
+// KHR_materials_emissive_strength (any kind).
+// Textures (through scene/texture.h; images are files relative to the .gltf, percent-decoded,
+// data: URIs or buffer views, each decoded once per use; a missing or undecodable image is a
+// warning and a visible placeholder):
+//   baseColorTexture (colour)         → albedo_map, × the base colour factor
+//   metallicRoughnessTexture (data)   → roughness_map of Glossy (α = (roughnessFactor · G)²:
+//                                       alpha stays roughnessFactor², the device multiplies
+//                                       G²); its metallic (B) is not modelled (noted once)
+//   emissiveTexture (colour)          → emission_map, × emission (only when that is > 0)
+//   normalTexture (data)              → normal_map, normal_scale = scale
+//   occlusionTexture                  → ignored (noted once)
+// KHR_texture_transform on any of them → uv_transform = T × R × S as the extension defines it
+// (a texCoord other than 0, here or on the textureInfo, is noted: only TEXCOORD_0 is read).
+// Samplers: magFilter NEAREST → Texture::nearest; wrapS / wrapT other than REPEAT noted once
+// (only repeat is supported). A texture without `source` (an extension's image) is noted.
+// Alpha: alphaMode MASK → alpha_factor = baseColorFactor[3], alpha_cutoff = alphaCutoff (0.5),
+// alpha_map = the base colour texture (its A) when it has a texel below the cutoff; without a
+// texture, a factor below the cutoff leaves nothing: the primitive is not added (noted once).
+// BLEND is approximated as MASK with cutoff 0.5 (noted once). OPAQUE ignores alpha (spec).
+// ONE warning per file for each other approximation: metallic between 0 and 1 rounded, rough
+// glass rendered smooth, base colour clamped. Specular/dielectric reflection of non-metals
 // (glTF's F0 = 0.04 layer) is not modelled. A primitive without a material gets the mid-grey
 // (0.5) diffuse "default", without a warning (glTF allows it).
 //
@@ -32,7 +59,7 @@
 //
 // Hostile input: GLB header and chunk lengths checked before tinygltf sees them; external
 // files are read only as regular files up to 1 GiB (never written, no path expansion);
-// images are not decoded; at most 2^25 triangles and 2^27 vertices after instancing, node
+// image files only as regular files, image buffer views bounds-checked; at most 2^25 triangles and 2^27 vertices after instancing, node
 // depth 256 (a cycle fails there), 2^20 node visits.
 //
 // Errors: wp::Error naming the file, the JSON place (meshes[i].primitives[j],

@@ -7,9 +7,11 @@
 #include <map>
 #include <sstream>
 #include <string_view>
+#include <unordered_map>
 
 #include <tiny_obj_loader.h>
 
+#include "scene/texture.h"
 #include "scene/validate.h"
 #include "util/error.h"
 #include "util/read_file.h"
@@ -172,10 +174,60 @@ MtlSource mtl_files_beside(const std::filesystem::path& origin) {
     };
 }
 
-// tinyobjloader's hook for `mtllib`: the library's text from an MtlSource.
+// What tinyobjloader's material_t does not say: the library a material came from (its
+// textures are relative to the library's folder) and whether the material has a `Kd` / `Ke`
+// line (tinyobjloader fills a missing Kd with 0.6 when map_Kd is given, and a missing Ke
+// with 0; wavepath reads a map without its constant as the map alone, see convert_material).
+struct MtlInfo {
+    std::string library;
+    bool has_kd = false, has_ke = false;
+};
+
+// The `newmtl` names of an MTL text that have a `Kd` / `Ke` line (first definition wins, as
+// in tinyobjloader's name lookup); names are parsed as tinyobjloader does.
+struct MtlLines {
+    std::map<std::string, std::pair<bool, bool>> kd_ke;
+};
+MtlLines scan_mtl(std::string_view text) {
+    MtlLines out;
+    std::string current;
+    bool have = false;
+    std::pair<bool, bool> flags{false, false};
+    auto flush = [&] {
+        if (have) out.kd_ke.emplace(current, flags);
+    };
+    std::size_t pos = 0;
+    while (pos < text.size()) {
+        std::size_t eol = text.find('\n', pos);
+        if (eol == std::string_view::npos) eol = text.size();
+        std::string_view line = text.substr(pos, eol - pos);
+        pos = eol + 1;
+        while (!line.empty() && (line.front() == ' ' || line.front() == '\t')) line.remove_prefix(1);
+        while (!line.empty() && is_space(line.back())) line.remove_suffix(1);
+        auto key = [&](std::string_view k) {
+            return line.size() > k.size() && line.substr(0, k.size()) == k &&
+                   (line[k.size()] == ' ' || line[k.size()] == '\t');
+        };
+        if (key("newmtl")) {
+            flush();
+            current = std::string(line.substr(7));
+            have = true;
+            flags = {false, false};
+        } else if (key("Kd")) {
+            flags.first = true;
+        } else if (key("Ke")) {
+            flags.second = true;
+        }
+    }
+    flush();
+    return out;
+}
+
+// tinyobjloader's hook for `mtllib`: the library's text from an MtlSource; records an
+// MtlInfo per material it adds.
 class MtlReader : public tinyobj::MaterialReader {
   public:
-    explicit MtlReader(const MtlSource& source) : source_(source) {}
+    MtlReader(const MtlSource& source, std::vector<MtlInfo>& info) : source_(source), info_(info) {}
     bool operator()(const std::string& name, std::vector<tinyobj::material_t>* materials,
                     std::map<std::string, int>* names, std::string* warn,
                     std::string* err) override {
@@ -194,13 +246,27 @@ class MtlReader : public tinyobj::MaterialReader {
             check_exponents(tokens(std::string_view(*text).substr(pos, eol - pos)), name, ++line_no);
             pos = eol + 1;
         }
+        const MtlLines lines = scan_mtl(*text);
+        const std::size_t before = materials->size();
         std::istringstream in(std::move(*text));
         tinyobj::LoadMtl(names, materials, &in, warn, err);
+        info_.resize(before);
+        for (std::size_t i = before; i < materials->size(); ++i) {
+            MtlInfo mi;
+            mi.library = name;
+            auto it = lines.kd_ke.find((*materials)[i].name);
+            if (it != lines.kd_ke.end()) {
+                mi.has_kd = it->second.first;
+                mi.has_ke = it->second.second;
+            }
+            info_.push_back(std::move(mi));
+        }
         return true;
     }
 
   private:
     const MtlSource& source_;
+    std::vector<MtlInfo>& info_;
 };
 
 float max3(const tinyobj::real_t c[3]) {
@@ -213,12 +279,141 @@ glm::vec3 vec3(const tinyobj::real_t c[3]) {
     return glm::vec3(float(c[0]), float(c[1]), float(c[2]));
 }
 
+// The uv transform of the MTL texture options `-s su sv` and `-o ou ov`. MTL looks a map up at
+// (su u + ou, sv v + ov) in its own v-up coordinates (as three.js's and Blender's importers
+// do); wavepath stores (u, w) with w = 1 - v and looks up its transformed (u', w') top-down,
+// so w' = 1 - (sv (1 - w) + ov) = sv w + (1 - sv - ov):
+//   uv_transform = [su 0 ou; 0 sv 1 - sv - ov; 0 0 1].
+glm::mat3 mtl_uv_transform(const tinyobj::texture_option_t& o) {
+    glm::mat3 m(1.0f);
+    const float su = float(o.scale[0]), sv = float(o.scale[1]);
+    const float ou = float(o.origin_offset[0]), ov = float(o.origin_offset[1]);
+    m[0][0] = su;
+    m[1][1] = sv;
+    m[2][0] = ou;
+    m[2][1] = 1.0f - sv - ov;
+    return m;
+}
+
+bool finite_matrix(const glm::mat3& m) {
+    for (int c = 0; c < 3; ++c)
+        for (int r = 0; r < 3; ++r)
+            if (!std::isfinite(m[c][r])) return false;
+    return true;
+}
+
+// True when every texel of the texture has R = G = B: a grey image, which under map_Bump or
+// bump is a height map (a tangent-space normal map has B near 1 and R, G varying).
+bool grey_image(const Texture& t) {
+    if (t.width <= 0 || t.height <= 0) return false;
+    const std::size_t n = std::size_t(t.width) * std::size_t(t.height);
+    if (t.is_float()) {
+        if (t.texelsf.size() < 4 * n) return false;
+        for (std::size_t i = 0; i < n; ++i)
+            if (t.texelsf[4 * i] != t.texelsf[4 * i + 1] || t.texelsf[4 * i] != t.texelsf[4 * i + 2])
+                return false;
+        return true;
+    }
+    if (t.texels8.size() < 4 * n) return false;
+    for (std::size_t i = 0; i < n; ++i)
+        if (t.texels8[4 * i] != t.texels8[4 * i + 1] || t.texels8[4 * i] != t.texels8[4 * i + 2])
+            return false;
+    return true;
+}
+
+// Coverage (A, or channel `c`) below `cutoff` somewhere in the image.
+bool cuts_out(const Texture& t, int c, float cutoff) {
+    const std::size_t n = std::size_t(std::max(t.width, 0)) * std::size_t(std::max(t.height, 0));
+    if (t.is_float()) {
+        for (std::size_t i = 0; i < n && 4 * i + 3 < t.texelsf.size(); ++i)
+            if (!(t.texelsf[4 * i + c] >= cutoff)) return true;
+        return false;
+    }
+    for (std::size_t i = 0; i < n && 4 * i + 3 < t.texels8.size(); ++i)
+        if (!(float(t.texels8[4 * i + c]) / 255.0f >= cutoff)) return true;
+    return false;
+}
+
+// An alpha channel that is 1 everywhere (an image without one reads as opaque).
+bool opaque_alpha(const Texture& t) { return !cuts_out(t, 3, 1.0f); }
+
+// Loads the texture maps an MTL material names (see obj_loader.h): paths relative to the
+// folder of the MTL library the material comes from.
+struct MtlTextures {
+    Scene& scene;
+    std::filesystem::path obj_dir;
+    std::string file;
+
+    // The texture `name` of material `mat` for `slot` ("map_Kd", ...), its uv transform from
+    // the options; nullopt (with a warning) when the path is something other than a file.
+    std::optional<TextureRef> load(const tinyobj::material_t& mat, const MtlInfo& info,
+                                   std::string name, const tinyobj::texture_option_t& opt,
+                                   TextureUse use, const char* slot) {
+        namespace fs = std::filesystem;
+        while (!name.empty() && is_space(name.back())) name.pop_back();
+        while (!name.empty() && is_space(name.front())) name.erase(name.begin());
+        if (name.empty()) return std::nullopt;
+        std::replace(name.begin(), name.end(), '\\', '/');  // paths written on Windows
+        const fs::path path = obj_dir / fs::path(info.library).parent_path() / fs::path(name);
+        std::error_code ec;
+        const fs::file_status st = fs::status(path, ec);
+        if (fs::exists(st) && !fs::is_regular_file(st)) {
+            scene.warnings.push_back(fmt::format(
+                "{}: material '{}': {} '{}' is not a regular file; ignored", file, mat.name, slot,
+                path.string()));
+            return std::nullopt;
+        }
+        TextureRef r;
+        r.image = add_texture_file(scene, path, use);
+        r.uv_transform = mtl_uv_transform(opt);
+        if (!finite_matrix(r.uv_transform)) {
+            scene.warnings.push_back(fmt::format(
+                "{}: material '{}': {} has a non-finite -o or -s option; ignored", file, mat.name,
+                slot));
+            r.uv_transform = glm::mat3(1.0f);
+        }
+        if (opt.clamp)
+            scene.warnings.push_back(fmt::format(
+                "{}: material '{}': {} -clamp on is not supported; the map repeats", file,
+                mat.name, slot));
+        if (opt.brightness != 0.0f || opt.contrast != 1.0f)
+            scene.warnings.push_back(fmt::format(
+                "{}: material '{}': {} -mm (base, gain) is not supported; ignored", file,
+                mat.name, slot));
+        return r;
+    }
+
+    // map_d's coverage in A: the image's alpha channel, or its first channel (R) when the
+    // alpha is 1 everywhere (a grey or RGB image): then R is copied into A in place (no
+    // other OBJ slot reads A, so a texture shared with map_Kd is unchanged for it).
+    void coverage_in_alpha(int image) {
+        Texture& t = scene.textures[std::size_t(image)];
+        if (!opaque_alpha(t)) return;
+        const std::size_t n = std::size_t(t.width) * std::size_t(t.height);
+        for (std::size_t i = 0; i < n && 4 * i + 3 < t.texels8.size(); ++i)
+            t.texels8[4 * i + 3] = t.texels8[4 * i];
+        for (std::size_t i = 0; i < n && 4 * i + 3 < t.texelsf.size(); ++i)
+            t.texelsf[4 * i + 3] = t.texelsf[4 * i];
+    }
+
+    // Forgets a texture that the last load() added but no slot uses after all.
+    void drop_if_added(const TextureRef& r, std::size_t count_before) {
+        if (scene.textures.size() == count_before + 1 && r.image == int(count_before))
+            scene.textures.pop_back();
+    }
+};
+
 // One MTL material to a wavepath material, by the table in obj_loader.h.
-Material convert_material(const tinyobj::material_t& mt, const std::string& file,
-                          std::vector<std::string>& warnings) {
+Material convert_material(const tinyobj::material_t& mt, const MtlInfo& info, MtlTextures& tex,
+                          const std::string& file, std::vector<std::string>& warnings) {
     Material m;
     m.name = mt.name;
-    const bool kd_zero = max3(mt.diffuse) <= 0.001f;
+    // A map without its constant (map_Kd without Kd, map_Ke without Ke) is the map alone
+    tinyobj::real_t diffuse[3] = {mt.diffuse[0], mt.diffuse[1], mt.diffuse[2]};
+    tinyobj::real_t emission[3] = {mt.emission[0], mt.emission[1], mt.emission[2]};
+    if (!mt.diffuse_texname.empty() && !info.has_kd) diffuse[0] = diffuse[1] = diffuse[2] = 1;
+    if (!mt.emissive_texname.empty() && !info.has_ke) emission[0] = emission[1] = emission[2] = 1;
+    const bool kd_zero = max3(diffuse) <= 0.001f;
     const bool ks_some = max3(mt.specular) > 0.0f;
     const bool ks_perfect = min3(mt.specular) >= 0.999f;
     const bool reflect = mt.illum == 3 || mt.illum == 5;
@@ -229,6 +424,11 @@ Material convert_material(const tinyobj::material_t& mt, const std::string& file
             warnings.push_back(fmt::format("{}: material '{}': {} ({}, {}, {}) clamped to [0, 1]",
                                            file, mt.name, what, c.x, c.y, c.z));
         return r;
+    };
+    auto ignored = [&](const std::string& texname, const char* slot, const char* why) {
+        if (!texname.empty())
+            warnings.push_back(fmt::format("{}: material '{}': {} '{}' ignored ({})", file,
+                                           mt.name, slot, texname, why));
     };
 
     // Kind and albedo: glass, mirror, glossy, else diffuse
@@ -242,6 +442,8 @@ Material convert_material(const tinyobj::material_t& mt, const std::string& file
         if (!(std::isfinite(ior) && ior > 0.0f && ior != 1.0f))
             warnings.push_back(fmt::format("{}: material '{}': glass without a usable Ni ({}); "
                                            "using 1.5", file, mt.name, ior));
+        ignored(mt.diffuse_texname, "map_Kd", "glass has no diffuse colour");
+        ignored(mt.specular_texname, "map_Ks", "glass is tinted by Tf only");
     } else if (reflect && kd_zero && ks_some && (ns >= 1000.0f || ks_perfect)) {
         m.kind = MaterialKind::Mirror;
         m.albedo = clamped("Ks", vec3(mt.specular));
@@ -251,20 +453,65 @@ Material convert_material(const tinyobj::material_t& mt, const std::string& file
         m.alpha = phong_exponent_to_alpha(std::max(0.0f, ns));
     } else {
         m.kind = MaterialKind::Diffuse;
-        m.albedo = clamped("Kd", vec3(mt.diffuse));
+        m.albedo = clamped("Kd", vec3(diffuse));
         if (reflect && ks_some && !kd_zero)
             warnings.push_back(fmt::format(
                 "{}: material '{}': has both Kd and Ks with illum {}; wavepath has no layered "
                 "material, so it is diffuse (Ks ignored)",
                 file, mt.name, mt.illum));
+        ignored(mt.specular_texname, "map_Ks", "the material is diffuse");
     }
 
     // Emission: Ke, one-sided radiance
-    glm::vec3 e = vec3(mt.emission);
+    glm::vec3 e = vec3(emission);
     m.emission = glm::max(e, glm::vec3(0.0f));
     if (m.emission != e)
         warnings.push_back(fmt::format("{}: material '{}': negative Ke ({}, {}, {}) set to 0", file,
                                        mt.name, e.x, e.y, e.z));
+
+    // Texture maps (paths relative to the MTL file)
+    if (m.kind == MaterialKind::Diffuse) {
+        if (auto r = tex.load(mt, info, mt.diffuse_texname, mt.diffuse_texopt, TextureUse::Colour,
+                              "map_Kd"))
+            m.albedo_map = *r;
+    } else if (m.kind == MaterialKind::Glossy || m.kind == MaterialKind::Mirror) {
+        if (auto r = tex.load(mt, info, mt.specular_texname, mt.specular_texopt,
+                              TextureUse::Colour, "map_Ks"))
+            m.albedo_map = *r;
+    }
+    if (!mt.emissive_texname.empty() && !m.emissive())
+        ignored(mt.emissive_texname, "map_Ke", "Ke is 0");
+    else if (auto r = tex.load(mt, info, mt.emissive_texname, mt.emissive_texopt,
+                               TextureUse::Colour, "map_Ke"))
+        m.emission_map = *r;
+    // Normal map: `norm`, else map_Bump / bump unless the image is grey (a height map)
+    const bool norm = !mt.normal_texname.empty();
+    const tinyobj::texture_option_t& nopt = norm ? mt.normal_texopt : mt.bump_texopt;
+    std::size_t before = tex.scene.textures.size();
+    if (auto r = tex.load(mt, info, norm ? mt.normal_texname : mt.bump_texname, nopt,
+                          TextureUse::Data, norm ? "norm" : "map_Bump")) {
+        if (!norm && grey_image(tex.scene.textures[std::size_t(r->image)])) {
+            warnings.push_back(fmt::format(
+                "{}: material '{}': map_Bump '{}' is a grey image, a height (bump) map; only "
+                "normal maps are supported, so it is ignored",
+                file, mt.name, mt.bump_texname));
+            tex.drop_if_added(*r, before);
+        } else {
+            m.normal_map = *r;
+            const float bm = float(nopt.bump_multiplier);
+            m.normal_scale = std::isfinite(bm) ? bm : 1.0f;
+        }
+    }
+    if (norm) ignored(mt.bump_texname, "map_Bump", "norm is given");
+    // Cut-out: map_d's coverage (A, or the first channel without alpha) below 0.5
+    before = tex.scene.textures.size();
+    if (auto r = tex.load(mt, info, mt.alpha_texname, mt.alpha_texopt, TextureUse::Data, "map_d")) {
+        tex.coverage_in_alpha(r->image);
+        if (cuts_out(tex.scene.textures[std::size_t(r->image)], 3, m.alpha_cutoff))
+            m.alpha_map = *r;
+        else
+            tex.drop_if_added(*r, before);  // nothing is cut out: no alpha test needed
+    }
 
     // What is not modelled
     if (mt.illum == 9)
@@ -272,11 +519,13 @@ Material convert_material(const tinyobj::material_t& mt, const std::string& file
             "{}: material '{}': illum {} (transparency/refraction) is not supported; rendered as "
             "{}",
             file, mt.name, mt.illum, to_string(m.kind)));
-    for (const std::string* tex : {&mt.diffuse_texname, &mt.specular_texname, &mt.emissive_texname,
-                                   &mt.bump_texname, &mt.alpha_texname})
-        if (!tex->empty())
-            warnings.push_back(
-                fmt::format("{}: material '{}': texture '{}' ignored", file, mt.name, *tex));
+    ignored(mt.ambient_texname, "map_Ka", "not supported");
+    ignored(mt.specular_highlight_texname, "map_Ns", "not supported");
+    ignored(mt.displacement_texname, "disp", "not supported");
+    ignored(mt.reflection_texname, "refl", "not supported");
+    ignored(mt.roughness_texname, "map_Pr", "not supported");
+    ignored(mt.metallic_texname, "map_Pm", "not supported");
+    ignored(mt.sheen_texname, "map_Ps", "not supported");
     return m;
 }
 
@@ -422,7 +671,8 @@ Scene parse_obj(std::string_view input, const std::filesystem::path& origin,
     std::vector<tinyobj::shape_t> shapes;
     std::vector<tinyobj::material_t> mtls;
     std::string warn, err;
-    MtlReader mtl_reader(mtl_source);
+    std::vector<MtlInfo> mtl_info;
+    MtlReader mtl_reader(mtl_source, mtl_info);
     if (!tinyobj::LoadObj(&attrib, &shapes, &mtls, &warn, &err, &text, &mtl_reader,
                           /*triangulate=*/false, /*default_vcols_fallback=*/false)) {
         while (!err.empty() && (is_space(err.back()) || err.back() == '\n'))
@@ -434,15 +684,88 @@ Scene parse_obj(std::string_view input, const std::filesystem::path& origin,
     add_lines(scene.warnings, file, warn);
     add_lines(scene.warnings, file, err); // non-fatal messages (e.g. from the .mtl)
 
-    // Vertices, in file order
+    // Attributes: `vt` (stored as (u, 1 - v)) and `vn`; a corner's index outside the file's
+    // vt / vn lines is ignored (that corner has none), with one warning.
     const std::size_t nv = attrib.vertices.size() / 3;
-    scene.positions.reserve(nv);
-    for (std::size_t i = 0; i < nv; ++i)
-        scene.positions.emplace_back(float(attrib.vertices[3 * i]),
-                                     float(attrib.vertices[3 * i + 1]),
-                                     float(attrib.vertices[3 * i + 2]));
+    const std::size_t nvt = attrib.texcoords.size() / 2, nvn = attrib.normals.size() / 3;
+    std::size_t bad_refs = 0;
+    bool has_uv = false, has_normal = false;
+    for (auto& shape : shapes)
+        for (auto& idx : shape.mesh.indices) {
+            if (idx.texcoord_index != -1 &&
+                (idx.texcoord_index < 0 || std::size_t(idx.texcoord_index) >= nvt)) {
+                idx.texcoord_index = -1;
+                ++bad_refs;
+            }
+            if (idx.normal_index != -1 &&
+                (idx.normal_index < 0 || std::size_t(idx.normal_index) >= nvn)) {
+                idx.normal_index = -1;
+                ++bad_refs;
+            }
+            has_uv = has_uv || idx.texcoord_index >= 0;
+            has_normal = has_normal || idx.normal_index >= 0;
+        }
+    if (bad_refs > 0)
+        scene.warnings.push_back(fmt::format(
+            "{}: {} face corner(s) name a texture coordinate or normal that the file does not "
+            "have; those corners have none",
+            file, bad_refs));
+    std::size_t non_finite = 0;
+    auto uv_of = [&](int i) {
+        glm::vec2 t(float(attrib.texcoords[2 * std::size_t(i)]),
+                    1.0f - float(attrib.texcoords[2 * std::size_t(i) + 1]));
+        if (std::isfinite(t.x) && std::isfinite(t.y)) return t;
+        ++non_finite;
+        return glm::vec2(0.0f);
+    };
+    auto normal_of = [&](int i) {
+        const tinyobj::real_t* c = &attrib.normals[3 * std::size_t(i)];
+        const glm::vec3 v{float(c[0]), float(c[1]), float(c[2])};
+        if (std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z)) return v;
+        ++non_finite;
+        return glm::vec3(0.0f);
+    };
+    auto position_of = [&](std::size_t i) {
+        return glm::vec3(float(attrib.vertices[3 * i]), float(attrib.vertices[3 * i + 1]),
+                         float(attrib.vertices[3 * i + 2]));
+    };
+
+    // Vertices: without attributes, the file's in file order (vertex i = `v` line i + 1);
+    // with them, one per distinct (v, vt, vn) triple, in order of first use, so every corner
+    // keeps its exact uv and normal.
+    const bool attributes = has_uv || has_normal;
+    struct TripleHash {
+        std::size_t operator()(const glm::ivec3& k) const {
+            std::uint64_t h = std::uint32_t(k.x);
+            h = h * 0x9E3779B97F4A7C15ull ^ std::uint32_t(k.y);
+            h = h * 0x9E3779B97F4A7C15ull ^ std::uint32_t(k.z);
+            return std::size_t(h ^ (h >> 29));
+        }
+    };
+    std::unordered_map<glm::ivec3, std::uint32_t, TripleHash> vertex_of_triple;
+    if (!attributes) {
+        scene.positions.reserve(nv);
+        for (std::size_t i = 0; i < nv; ++i) scene.positions.push_back(position_of(i));
+    }
+    auto vertex = [&](const tinyobj::index_t& idx) -> std::uint32_t {
+        if (!attributes) return std::uint32_t(idx.vertex_index);
+        const glm::ivec3 key(idx.vertex_index, idx.texcoord_index, idx.normal_index);
+        auto [it, added] =
+            vertex_of_triple.emplace(key, std::uint32_t(scene.positions.size()));
+        if (added) {
+            scene.positions.push_back(position_of(std::size_t(idx.vertex_index)));
+            if (has_uv)
+                scene.uvs.push_back(idx.texcoord_index >= 0 ? uv_of(idx.texcoord_index)
+                                                            : glm::vec2(0.0f));
+            if (has_normal)
+                scene.normals.push_back(idx.normal_index >= 0 ? normal_of(idx.normal_index)
+                                                              : glm::vec3(0.0f));
+        }
+        return it->second;
+    };
 
     // Triangles, with materials converted on first use
+    MtlTextures textures{scene, origin.parent_path(), file};
     std::vector<std::uint32_t> used(mtls.size(), ~0u);
     std::uint32_t default_id = ~0u;
     std::size_t without_material = 0;
@@ -461,7 +784,7 @@ Scene parse_obj(std::string_view input, const std::filesystem::path& origin,
                 if (vi < 0 || std::size_t(vi) >= nv)
                     fail("{}: shape '{}': face {} uses vertex index {} of {}", file, shape.name, f,
                          vi + 1, nv);
-                poly.push_back(std::uint32_t(vi));
+                poly.push_back(vertex(mesh.indices[offset + k]));
             }
             offset += n;
 
@@ -469,8 +792,12 @@ Scene parse_obj(std::string_view input, const std::filesystem::path& origin,
             int mi = f < mesh.material_ids.size() ? mesh.material_ids[f] : -1;
             std::uint32_t id;
             if (mi >= 0 && std::size_t(mi) < mtls.size()) {
-                if (used[mi] == ~0u)
-                    used[mi] = scene.add_material(convert_material(mtls[mi], file, scene.warnings));
+                if (used[mi] == ~0u) {
+                    const MtlInfo info =
+                        std::size_t(mi) < mtl_info.size() ? mtl_info[mi] : MtlInfo{};
+                    used[mi] = scene.add_material(
+                        convert_material(mtls[mi], info, textures, file, scene.warnings));
+                }
                 id = used[mi];
             } else {
                 if (default_id == ~0u) {
@@ -487,6 +814,11 @@ Scene parse_obj(std::string_view input, const std::filesystem::path& origin,
             scene.material_ids.resize(scene.triangles.size(), id);
         }
     }
+    if (non_finite > 0)
+        scene.warnings.push_back(fmt::format(
+            "{}: {} texture coordinate(s) or normal(s) are not finite; replaced by (0, 0) / no "
+            "normal",
+            file, non_finite));
     if (inexact > 0)
         scene.warnings.push_back(fmt::format(
             "{}: {} polygon(s) are self-intersecting or have more than {} corners without being "

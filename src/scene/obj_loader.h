@@ -1,12 +1,19 @@
 // obj_loader.h — Wavefront OBJ/MTL files into a Scene (tinyobjloader, polygons triangulated).
 //
-// Geometry: every `v` becomes a vertex (in file order, so vertex i of the scene is the
-// file's vertex i + 1); every face of n corners becomes n - 2 triangles with the face's
-// winding: a fan when the polygon is convex, ear clipping in the polygon's plane when it is
-// not (a self-intersecting polygon, or a concave one over 128 corners, is fanned with a
-// warning). Vertex normals (`vn`) are not needed: wavepath shades with the geometric normal
-// of each triangle, so missing normals need no computing and given ones are ignored, as are
-// texture coordinates, lines and points. Negative (relative) indices are supported.
+// Geometry: every face of n corners becomes n - 2 triangles with the face's winding: a fan
+// when the polygon is convex, ear clipping in the polygon's plane when it is not (a
+// self-intersecting polygon, or a concave one over 128 corners, is fanned with a warning).
+// Negative (relative) indices are supported; lines and points are ignored.
+//
+// Vertex attributes: `vn` → Scene::normals (shading normals, as written, not normalised),
+// `vt` → Scene::uvs stored as (u, 1 - v) (wavepath's uvs have the image's top-left at
+// (0, 0); OBJ's v points up). A file whose faces name no vt and no vn keeps the file's
+// vertices in file order (vertex i of the scene is `v` line i + 1); otherwise there is one
+// vertex per distinct (v, vt, vn) index triple, in order of first use, so every corner keeps
+// its exact attributes (corners without vt / vn get (0, 0) / a zero normal, i.e. none).
+// A vt / vn index outside the file's lists is ignored for that corner (one warning), a
+// non-finite value is replaced by none (one warning). Polygon triangulation keeps each
+// corner's vertex, hence its attributes.
 //
 // Material mapping (MTL → wavepath), first rule that matches wins; "≈ 0" means every channel
 // <= 0.001, and Ks "perfect" means every channel >= 0.999:
@@ -20,10 +27,30 @@
 //   anything else                                        → Diffuse, albedo = Kd
 // Albedos are clamped to [0, 1]. A material with both Kd and Ks that asks for reflection
 // (illum 3 or 5) becomes Diffuse with a warning (wavepath has no layered material);
-// illum 9 (glass without refraction) and texture maps are ignored with a warning.
+// illum 9 (glass without refraction) is rendered as the kind above with a warning.
+//
+// Texture maps (paths relative to the folder of the MTL file, '\' read as '/'; loaded once
+// through scene/texture.h; a missing or undecodable file: a warning naming it and a visible
+// placeholder; a folder or device: a warning, map ignored):
+//   map_Kd   → albedo_map (colour) of Diffuse; × Kd, or alone (Kd = 1) when the material has
+//              no Kd line
+//   map_Ks   → albedo_map (colour) of Glossy and Mirror (× Ks); ignored with a warning on
+//              Diffuse and Glass (map_Kd too on Glass)
+//   map_Ke   → emission_map (colour), × Ke, or alone (Ke = 1) without a Ke line; ignored
+//              with a warning when Ke is 0
+//   norm     → normal_map (data), normal_scale = -bm
+//   map_Bump / bump → the same when `norm` is absent, unless the image is grey (R = G = B
+//              everywhere: a height map, which wavepath does not model: warning, ignored)
+//   map_d    → alpha_map (data), cut-out at 0.5: coverage = the image's alpha channel, or its
+//              first channel (R, copied into A) when the alpha is 1 everywhere (an image
+//              without alpha); no alpha map when no texel is below 0.5
+//   -o ou ov / -s su sv → uv_transform: MTL looks up (su u + ou, sv v + ov) with v up, which
+//              on the stored (u, 1 - v) is [su 0 ou; 0 sv 1 - sv - ov; 0 0 1]
+// Not supported (warning): -clamp on (maps repeat), -mm, map_Ka, map_Ns, disp, refl,
+// map_Pr, map_Pm, map_Ps. The scalar d / Tr (dissolve) is ignored.
 // Triangles without a material (no `usemtl`, an unknown name, a missing .mtl) get the
 // mid-grey (0.5) diffuse material "default", with ONE warning for the whole file. Only the
-// materials that some triangle uses are kept.
+// materials that some triangle uses are kept (and only their textures loaded).
 //
 // Warnings (those of tinyobjloader and the ones above, each prefixed by the file name) are
 // returned in Scene::warnings; nothing is printed.
@@ -64,7 +91,8 @@ Scene parse_obj(std::string_view text, const std::filesystem::path& origin);
 
 // The same with `mtllib` libraries looked up through `mtl_source` (name as written in the
 // file -> the library's text, or nullopt when there is none) instead of the file system: for
-// tests and the fuzzer, which must not read files.
+// tests and the fuzzer. Texture maps are still looked up as files beside `origin` (the
+// fuzzer's origin is an empty folder; only regular files are ever opened).
 using MtlSource = std::function<std::optional<std::string>(const std::string& name)>;
 Scene parse_obj(std::string_view text, const std::filesystem::path& origin,
                 const MtlSource& mtl_source);
