@@ -911,6 +911,8 @@ TEST_CASE("json scene: the environment: file, scale, rotation", "[scene][json][p
     CHECK(has(bad(R"({"file": "a.exr", "rotate": 3})"),
               "/environment/rotate: unknown key 'rotate' in the environment"));
     CHECK(has(bad(R"("sky.exr")"), "/environment: expected an environment"));
+    CHECK(has(error_of(R"({"envmap": {"file": "sky.exr"})" + shapes),
+              "/envmap: unknown key 'envmap' in the scene (did you mean 'environment'?)"));
 }
 
 TEST_CASE("json scene: \"smooth\" computes normals for a mesh without them",

@@ -1072,6 +1072,24 @@ TEST_CASE("mitsuba: bitmap options and missing files", "[scene][mitsuba][parser]
     CHECK(has_warning(s, "gone.png"));
     CHECK(has_warning(s, "wrap_mode 'mirror' is rendered as 'repeat'"));
     CHECK(material_of(s, 0).albedo_map.used());
+    // One file as colour and as data (raw): one image, read as its first use says (warning)
+    write_exr(d.path / "n.exr", 2, 2, [](int, int) { return glm::vec3(0.5f); });
+    Scene twice = parse_in(d, R"(
+  <shape type="rectangle"><bsdf type="twosided"><bsdf type="diffuse">
+    <texture name="reflectance" type="bitmap"><string name="filename" value="n.exr"/></texture></bsdf></bsdf></shape>
+  <shape type="rectangle"><bsdf type="normalmap"><texture name="normalmap" type="bitmap">
+    <string name="filename" value="n.exr"/><boolean name="raw" value="true"/></texture>
+    <bsdf type="twosided"><bsdf type="diffuse"/></bsdf></bsdf></shape>)");
+    INFO(all_warnings(twice));
+    CHECK(has_warning(twice, "test.xml:5:50: '"));
+    CHECK(has_warning(twice, "n.exr' is used both as colour and as data (raw); it is read as colour"));
+    CHECK(material_of(twice, 0).albedo_map.image == material_of(twice, 2).normal_map.image);
+    // Anisotropic roughness textures: their means, with a warning
+    Scene aniso = parse(R"(<shape type="rectangle"><bsdf type="twosided"><bsdf type="roughconductor">
+      <texture name="alpha_u" type="checkerboard"><float name="color0" value="0.1"/><float name="color1" value="0.3"/></texture>
+      <float name="alpha_v" value="0.2"/><string name="distribution" value="ggx"/></bsdf></bsdf></shape>)");
+    CHECK(material_of(aniso, 0).alpha == Approx(0.2f));  // sqrt(mean 0.2 x 0.2)
+    CHECK(has_warning(aniso, "alpha_u/alpha_v textures are not supported; their mean values are used"));
     // Bad values: the element's place and the problem
     CHECK_THAT(error_of_body("<shape type=\"cube\"><bsdf type=\"diffuse\">\n"
                              "  <texture name=\"reflectance\" type=\"bitmap\">\n"
@@ -1253,7 +1271,7 @@ TEST_CASE("mitsuba: normalmap and mask wrap their BSDF with a normal map and an 
     <string name="filename" value="nothere.exr"/></texture><bsdf type="diffuse"/></bsdf></shape>)");
     INFO(all_warnings(h));
     CHECK(count_warnings(h, "stochastic") == 1);
-    CHECK(has_warning(h, "(2 times"));
+    CHECK(has_warning(h, "is opaque (2 times; the first here)"));
     REQUIRE(material_of(h, 0).alpha_map.used());
     CHECK(texel_at(h.textures.at(std::size_t(material_of(h, 0).alpha_map.image)), 1, 0, 3) ==
           Approx(0.3f));

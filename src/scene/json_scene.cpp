@@ -344,6 +344,11 @@ std::string suggest(std::string_view word, std::span<const std::string_view> kno
         {"meshes", "shapes"},      {"lights", "shapes"},       {"integrator", "render"},
         {"translation", "translate"}, {"rotation", "rotate"},  {"angle", "degrees"},
         {"subdivision", "subdivisions"}, {"divisions", "subdivisions"}, {"res", "width"},
+        {"env", "environment"},    {"envmap", "environment"},  {"sky", "environment"},
+        {"texture", "albedo_texture"}, {"map_kd", "albedo_texture"},
+        {"normalmap", "normal_map"},   {"bump", "normal_map"}, {"opacity", "alpha_texture"},
+        {"mask", "alpha_texture"},     {"cutoff", "alpha_cutoff"}, {"smoothing", "smooth"},
+        {"crease", "smooth"},          {"filter_type", "filter"},
     };
     auto is_known = [&](std::string_view k) {
         return std::find(known.begin(), known.end(), k) != known.end();

@@ -283,6 +283,8 @@ class Reader {
     std::optional<std::uint32_t> default_material_;
     std::map<std::string, Scene> mesh_cache_;
     std::map<std::ptrdiff_t, TexInfo> texture_cache_;  // <texture> elements by offset
+    std::map<int, TextureUse> image_use_;              // how each image file was read
+    pugi::xml_node current_;                           // the texture element being read
     std::optional<std::string> env_where_;             // the envmap, for a second one's error
 
     bool have_sensor_ = false;
@@ -329,6 +331,7 @@ class Reader {
     glm::vec3 reflectance_map(Obj& o, std::string_view name, float def, TextureRef& map);
     int image_file(const std::string& filename, TextureUse use, bool& missing);
     void roughness_texture(pugi::xml_node n, const TexInfo& tex, Material& m);
+    double texture_mean(const TexInfo& tex);
     void opacity(Obj& o, Material& m);
     void mark_used(Obj& o, std::initializer_list<std::string_view> names);
     void finish(Obj& o);
@@ -744,6 +747,7 @@ TexInfo Reader::read_texture(pugi::xml_node t) {
     if (auto it = texture_cache_.find(key); it != texture_cache_.end()) return it->second;
     Obj o = collect(t);
     TexInfo info;
+    current_ = t;
     if (o.type == "bitmap") {
         auto filename = get_string(o, "filename");
         if (!filename) error(t, "missing <string name=\"filename\" value=\"...\"/>");
@@ -798,7 +802,15 @@ int Reader::image_file(const std::string& filename, TextureUse use, bool& missin
     if (p.is_relative()) p = dir_ / p;
     std::error_code ec;
     missing = !fs::is_regular_file(p, ec);
-    return add_texture_file(scene_, p, use);
+    const int image = add_texture_file(scene_, p, use);
+    // One image per file: its first use decides how it is read
+    auto [it, fresh] = image_use_.try_emplace(image, use);
+    if (!fresh && it->second != use)
+        note("colour and data " + p.string(), current_,
+             fmt::format("'{}' is used both as colour and as data (raw); it is read as {} for "
+                         "every use",
+                         p.string(), it->second == TextureUse::Colour ? "colour" : "data"));
+    return image;
 }
 
 // The texture nested as property `name` (inline, or a <ref name=... id=...> to a top-level
@@ -840,6 +852,18 @@ glm::vec3 Reader::reflectance_map(Obj& o, std::string_view name, float def, Text
     if (!ti.ref.used()) return ti.mean;
     map = ti.ref;
     return glm::vec3(1.0f);
+}
+
+// The mean of a texture's luminance: a checkerboard's colours, a bitmap's texels; the
+// stand-in of anything else (and of a missing file).
+double Reader::texture_mean(const TexInfo& tex) {
+    if (!tex.ref.used() || tex.missing) return luminance(tex.mean);
+    if (tex.checker) return luminance(tex.mean);
+    const Texture& src = scene_.textures[std::size_t(tex.ref.image)];
+    const std::size_t count = std::size_t(src.width) * std::size_t(src.height);
+    double sum = 0.0;
+    for (std::size_t i = 0; i < count; ++i) sum += texel_luminance(src, i);
+    return count ? sum / double(count) : 0.0;
 }
 
 // roughconductor's alpha as a texture. wavepath's roughness is alpha × G² of its roughness
@@ -1295,11 +1319,14 @@ Material Reader::read_bsdf(pugi::xml_node n, int depth, bool two_sided) {
             auto au = get_float(o, "alpha_u"), av = get_float(o, "alpha_v");
             std::optional<std::pair<TexInfo, pugi::xml_node>> alpha_tex;
             if (!a) alpha_tex = nested_texture(o, "alpha");
-            for (const char* an : {"alpha_u", "alpha_v"})
-                if (nested_texture(o, an))
-                    error(n, "{} as a texture is not supported (anisotropic roughness); give "
-                             "alpha as a number or a texture",
-                          an);
+            // Anisotropic roughness as textures: their mean values, with a warning
+            using AlphaSlot = std::pair<const char*, std::optional<double>*>;
+            for (auto [an, value] : {AlphaSlot{"alpha_u", &au}, AlphaSlot{"alpha_v", &av}})
+                if (auto tex = nested_texture(o, an)) {
+                    *value = texture_mean(tex->first);
+                    note("anisotropic texture", tex->second,
+                         "alpha_u/alpha_v textures are not supported; their mean values are used");
+                }
             if (alpha_tex && (au || av)) error(n, "give either alpha or alpha_u/alpha_v");
             if (au || av) {
                 if (!(au && av)) error(n, "alpha_u and alpha_v must be given together");
@@ -1818,6 +1845,7 @@ void Reader::read_envmap(Obj& o) {
     }
     Environment env;
     bool missing = false;
+    current_ = n;
     env.image = image_file(*filename, TextureUse::Colour, missing);
     env.scale = float(scale);
     env.to_world = glm::mat3(r);
