@@ -891,7 +891,7 @@ TEST_CASE("json scene: the environment: file, scale, rotation", "[scene][json][p
     check_near(glm::dvec3(s.environment->to_world[0]), {0, 0, -1});
     check_near(glm::dvec3(s.environment->to_world[1]), {0, 1, 0});
     check_near(glm::dvec3(s.environment->to_world[2]), {1, 0, 0});
-    CHECK(wp::has_light(s) == false);  // the triangles' and background's light only
+    CHECK(wp::has_light(s));  // the environment lights the scene
     // rotation [rx, ry, rz]: x first, then y, then z. [0, 90, 90]: x -> (0, 0, -1) -> (0, 0, -1);
     // y -> y -> (-1, 0, 0); z -> (1, 0, 0) -> (0, 1, 0)
     Scene r = parse_in(d, R"({"environment": {"file": "sky.exr", "rotation": [0, 90, 90]})" + shapes);

@@ -236,9 +236,9 @@ Scene load_any(const std::string& arg, bool quiet) {
 Scene load_scene(const std::string& arg, bool quiet, const SceneEdits* edits) {
     Scene scene = load_any(arg, quiet);
     if (edits) apply_scene_edits(*edits, scene);
-    // The one no-light warning, whatever the format (OBJ, PLY, glTF, XML, JSON, built-ins);
-    // an environment map lights the scene too.
-    if (!has_light(scene) && !scene.environment)
+    // The one no-light warning, whatever the format (OBJ, PLY, glTF, XML, JSON, built-ins),
+    // after the edits (--env lights a scene too).
+    if (!has_light(scene))
         scene.warnings.push_back(no_light_warning(arg.empty() ? "builtin:cornell-box" : arg));
     if (!quiet)
         for (const auto& w : scene.warnings) fmt::print(stderr, "wavepath: warning: {}\n", w);

@@ -1333,7 +1333,7 @@ void Reader::read_shape(const Json& v, const Path& p, Scene& s) {
         mesh = make_uv_sphere(c, r, rings, segments);
         // Smooth: the normal is the direction from the centre. uv = (phi / 2 pi, theta / pi):
         // phi around +y from +z towards +x, theta from the +y pole (v = 0 at the top).
-        for (const auto& q : mesh.positions) normals.push_back(glm::normalize(q - c));
+        normals = sphere_normals(mesh.positions, c);  // as the built-in box's sphere
         if (textured)
             wrap_uvs(
                 mesh.positions, mesh.triangles, normals, uvs,

@@ -209,6 +209,29 @@ glm::vec3 fresnel_f0(glm::vec3 eta, glm::vec3 k) {
     return a / b;
 }
 
+// Drops the images no material and no environment uses (the sources of derived roughness and
+// opacity maps, textures of BSDFs no shape uses), renumbering the references.
+void prune_textures(Scene& s) {
+    std::vector<TextureRef*> refs;
+    for (Material& m : s.materials)
+        for (TextureRef* r :
+             {&m.albedo_map, &m.roughness_map, &m.emission_map, &m.normal_map, &m.alpha_map})
+            if (r->used()) refs.push_back(r);
+    std::vector<int> index(s.textures.size(), -1);
+    for (TextureRef* r : refs) index[std::size_t(r->image)] = 0;
+    if (s.environment && s.environment->image >= 0) index[std::size_t(s.environment->image)] = 0;
+    std::vector<Texture> kept;
+    for (std::size_t i = 0; i < s.textures.size(); ++i)
+        if (index[i] == 0) {
+            index[i] = int(kept.size());
+            kept.push_back(std::move(s.textures[i]));
+        }
+    for (TextureRef* r : refs) r->image = index[std::size_t(r->image)];
+    if (s.environment && s.environment->image >= 0)
+        s.environment->image = index[std::size_t(s.environment->image)];
+    s.textures = std::move(kept);
+}
+
 // --- The reader -----------------------------------------------------------------------------
 
 struct Obj {
@@ -227,7 +250,7 @@ struct Obj {
 struct TexInfo {
     TextureRef ref;            // !ref.used(): not representable; `mean` stands in
     glm::vec3 mean{0.5f};      // the constant stand-in (checkerboard: the mean of its colours)
-    bool missing = false;      // a bitmap whose file is not there (a placeholder image)
+    bool missing = false;      // a bitmap whose file did not load (a placeholder image)
     bool checker = false;      // a checkerboard of color0, color1
     glm::vec3 color0{0.4f}, color1{0.2f};
     bool raw = false;          // bitmap raw = true: data, no sRGB decoding
@@ -283,8 +306,7 @@ class Reader {
     std::optional<std::uint32_t> default_material_;
     std::map<std::string, Scene> mesh_cache_;
     std::map<std::ptrdiff_t, TexInfo> texture_cache_;  // <texture> elements by offset
-    std::map<int, TextureUse> image_use_;              // how each image file was read
-    pugi::xml_node current_;                           // the texture element being read
+    std::set<int> placeholders_;                       // images standing in for bad files
     std::optional<std::string> env_where_;             // the envmap, for a second one's error
 
     bool have_sensor_ = false;
@@ -747,7 +769,6 @@ TexInfo Reader::read_texture(pugi::xml_node t) {
     if (auto it = texture_cache_.find(key); it != texture_cache_.end()) return it->second;
     Obj o = collect(t);
     TexInfo info;
-    current_ = t;
     if (o.type == "bitmap") {
         auto filename = get_string(o, "filename");
         if (!filename) error(t, "missing <string name=\"filename\" value=\"...\"/>");
@@ -796,20 +817,17 @@ TexInfo Reader::read_texture(pugi::xml_node t) {
 }
 
 // An image file for a texture or the environment, relative to the XML file's folder. A file
-// that is not there is a warning and a placeholder image (scene/texture.h): `missing`.
+// that is missing or does not decode is a warning and a placeholder image (scene/texture.h):
+// `missing` (told by add_texture_file's warning, given once per file).
 int Reader::image_file(const std::string& filename, TextureUse use, bool& missing) {
     fs::path p(filename);
     if (p.is_relative()) p = dir_ / p;
-    std::error_code ec;
-    missing = !fs::is_regular_file(p, ec);
+    const std::size_t warnings = scene_.warnings.size();
     const int image = add_texture_file(scene_, p, use);
-    // One image per file: its first use decides how it is read
-    auto [it, fresh] = image_use_.try_emplace(image, use);
-    if (!fresh && it->second != use)
-        note("colour and data " + p.string(), current_,
-             fmt::format("'{}' is used both as colour and as data (raw); it is read as {} for "
-                         "every use",
-                         p.string(), it->second == TextureUse::Colour ? "colour" : "data"));
+    for (std::size_t i = warnings; i < scene_.warnings.size(); ++i)
+        if (scene_.warnings[i].find("texture not loaded") != std::string::npos)
+            placeholders_.insert(image);
+    missing = placeholders_.count(image) > 0;
     return image;
 }
 
@@ -1845,7 +1863,6 @@ void Reader::read_envmap(Obj& o) {
     }
     Environment env;
     bool missing = false;
-    current_ = n;
     env.image = image_file(*filename, TextureUse::Colour, missing);
     env.scale = float(scale);
     env.to_world = glm::mat3(r);
@@ -1957,6 +1974,7 @@ Scene Reader::read() {
         note("no sensor", root,
              "no <sensor>: the camera frames the scene from +z (800 x 600, 40 degrees)");
     }
+    prune_textures(scene_);
     for (const Note& nt : notes_)
         scene_.warnings.push_back(nt.count == 1 ? fmt::format("{}: {}", nt.where, nt.text)
                                                 : fmt::format("{}: {} ({} times; the first here)",

@@ -98,8 +98,7 @@
 //   G² with G = sqrt(a / alpha_max) per texel (a: the texel's luminance, Mitsuba's eval_1);
 //   alpha_u/alpha_v as textures: their mean values (warning). A texture where wavepath takes
 //   a constant (eta, k, a constant emitter's radiance, ...): its mean (checkerboard) or 0.5,
-//   with a warning. One image per file: a file used both raw and not is read as its first
-//   use says (warning).
+//   with a warning.
 //   Metals (RGB η, k fitted by Tungsten's ComplexIorData.hpp from the spectral data Mitsuba
 //   uses): Ag, Al, Au, Be, Cr, Cu, Hg, Ir, K, Li, Mo, Rh, Ta, TiN, VN, W, Na_palik, Ni_palik.
 // Emitters: area (inside a shape): radiance → emission of a material made for that shape
