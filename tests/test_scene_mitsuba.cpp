@@ -1237,6 +1237,15 @@ TEST_CASE("mitsuba: normalmap and mask wrap their BSDF with a normal map and an 
     REQUIRE(nm.normal_map.used());
     CHECK(s.textures.at(std::size_t(nm.normal_map.image)).source.find("bumps.exr") != std::string::npos);
     CHECK(nm.normal_scale == 1.0f);
+    // Mitsuba's frame: x along dp/du, y = n x (x): on the rectangle dp/du = +x, and y = +y,
+    // the direction of increasing v (v = (y + 1) / 2), so tangents (1, 0, 0) with w = +1
+    REQUIRE(s.tangents.size() == s.positions.size());
+    for (std::size_t i = 0; i < 4; ++i) {
+        check_vec(glm::dvec3(s.tangents[i]), {1, 0, 0});
+        CHECK(s.tangents[i].w == 1.0f);
+    }
+    for (std::size_t i = 4; i < s.positions.size(); ++i)  // no normal map: no tangents
+        CHECK(s.tangents[i] == glm::vec4(0.0f));
     // Mask from a 0/1 bitmap: coverage (the alpha map's A) = the opacity, cutoff 0.5, exact
     const Material& fence = material_of(s, 2);
     REQUIRE(fence.alpha_map.used());

@@ -1580,6 +1580,33 @@ const Mesh& unit_sphere() {
     return sphere;
 }
 
+// Per-vertex tangents for Mitsuba's normal-map frame: the normalised sum of the unit dp/du
+// of the vertex's faces, w = +1 (so the bitangent is n × t, Mitsuba's y axis); zero where
+// no face has usable uvs (the upload computes one there).
+std::vector<glm::vec4> dpdu_tangents(const std::vector<glm::vec3>& p,
+                                     const std::vector<glm::uvec3>& tris,
+                                     const std::vector<glm::vec2>& uv) {
+    std::vector<glm::dvec3> sum(p.size(), glm::dvec3(0.0));
+    for (const auto& t : tris) {
+        const glm::dvec3 e1 = glm::dvec3(p[t.y]) - glm::dvec3(p[t.x]);
+        const glm::dvec3 e2 = glm::dvec3(p[t.z]) - glm::dvec3(p[t.x]);
+        const glm::dvec2 d1 = glm::dvec2(uv[t.y]) - glm::dvec2(uv[t.x]);
+        const glm::dvec2 d2 = glm::dvec2(uv[t.z]) - glm::dvec2(uv[t.x]);
+        const double det = d1.x * d2.y - d2.x * d1.y;
+        if (!(std::abs(det) > 0.0)) continue;
+        const glm::dvec3 dpdu = (e1 * d2.y - e2 * d1.y) / det;
+        const double len = glm::length(dpdu);
+        if (!(len > 0.0) || !std::isfinite(len)) continue;
+        for (int k = 0; k < 3; ++k) sum[t[k]] += dpdu / len;
+    }
+    std::vector<glm::vec4> out(p.size(), glm::vec4(0.0f));
+    for (std::size_t i = 0; i < p.size(); ++i) {
+        const double len = glm::length(sum[i]);
+        if (len > 1e-12) out[i] = glm::vec4(glm::vec3(sum[i] / len), 1.0f);
+    }
+    return out;
+}
+
 // Adds a shape: positions by `m`, shading normals by its inverse transpose (negated with
 // flip_normals), uvs only when the material uses a texture (a scene without textures carries
 // none). A mirroring `m` or flip_normals reverses the winding, so the front stays the side the
@@ -1604,8 +1631,13 @@ void Reader::add_geometry(pugi::xml_node n, ShapeGeometry g, const glm::dmat4& m
     if ((glm::determinant(linear) < 0.0) != flip)
         for (auto& t : g.triangles) std::swap(t.y, t.z);
     if (!scene_.materials[material].textured()) g.uvs.clear();
+    // Normal maps in Mitsuba's frame: x along dp/du, y = n × x whatever the uvs' handedness
+    // (wavepath's default follows the uvs, MikkTSpace-like): tangents dp/du with w = +1
+    std::vector<glm::vec4> tangents;
+    if (scene_.materials[material].normal_map.used() && !g.uvs.empty())
+        tangents = dpdu_tangents(g.positions, g.triangles, g.uvs);
     const std::size_t first =
-        scene_.add_mesh(g.positions, g.triangles, material, g.normals, g.uvs);
+        scene_.add_mesh(g.positions, g.triangles, material, g.normals, g.uvs, tangents);
     if (smooth) smooth_normals(scene_, 180.0f, first);
 }
 

@@ -71,8 +71,11 @@
 //   thindielectric, roughdielectric → Glass (warning)
 //   plastic, roughplastic, principled → Diffuse with diffuse_reflectance / base_color (warning)
 //   normalmap               its nested BSDF with the `normalmap` texture as its tangent-space
-//                           normal map (normal_scale 1; Mitsuba's frame: x along dp/du,
-//                           y = n × x); a missing file leaves the BSDF unchanged
+//                           normal map (normal_scale 1) in Mitsuba's frame: x along dp/du,
+//                           y = n × x whatever the handedness of the uvs (the shapes get
+//                           tangents dp/du with w = +1: per vertex, the mean of its faces'
+//                           dp/du, where Mitsuba's meshes use each face's); a missing file
+//                           leaves the BSDF unchanged
 //   mask                    its nested BSDF with an alpha cut-out: coverage = the `opacity`
 //                           (default 0.5; a texture's luminance) in the A channel of an alpha
 //                           map made from it, cutoff 0.5. Mitsuba's mask is stochastic, so this
