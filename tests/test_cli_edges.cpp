@@ -91,7 +91,13 @@ TEST_CASE("cli edges: every option out of range exits 2 with the allowed range",
                           Case{"--pool -1", "0..1073741824"},
                           Case{"--rr-depth -2", "0..1048576"},
                           Case{"--rr-depth 1048577", "0..1048576"},
-                          Case{"--debug-nan-period 0", "1..2147483647"}}) {
+                          Case{"--debug-nan-period 0", "1..2147483647"},
+                          Case{"--smooth -1", "0..180"}, Case{"--smooth 181", "0..180"},
+                          Case{"--smooth nan", "0..180"},
+                          Case{"--env-scale -1", "0..1000000"},
+                          Case{"--env-scale 1e7", "0..1000000"},
+                          Case{"--env-rotate 361", "-360..360"},
+                          Case{"--env-rotate -400", "-360..360"}}) {
         Run r = run_cli(d, c.args);
         INFO(c.args << ": " << r.err);
         CHECK(r.status == 2);
@@ -120,6 +126,8 @@ TEST_CASE("cli edges: --help and --version still exit 0 with their text", "[cli]
     FullRun h = run_wavepath(d, "render --help");
     CHECK(h.status == 0);
     CHECK(has(h.out, "--spp"));
+    for (const char* o : {"--env FILE", "--env-scale S", "--env-rotate DEG", "--smooth DEG"})
+        CHECK(has(h.out, o));
     CHECK_FALSE(has(h.err, "error"));
     FullRun v = run_wavepath(d, "--version");
     CHECK(v.status == 0);
@@ -242,4 +250,37 @@ TEST_CASE("cli edges: glTF '{}' is named as not a glTF file, in wavepath's words
     CHECK(r.status == 1);
     CHECK(has(r.err, "wavepath: error: empty.gltf: not a glTF 2.0 file: "));
     CHECK(d.empty_of_images());
+}
+
+// --- Appearance options (issue 13) -----------------------------------------------------------
+
+TEST_CASE("cli edges: --env needs an existing file; --env-scale/--env-rotate need a map",
+          "[cli][render]") {
+    TempDir d;
+    Run missing = run_cli(d, "--env nowhere.exr --spp 1 --size 8x6 -o out.exr");
+    INFO(missing.err);
+    CHECK(missing.status == 1);
+    CHECK(has(missing.err, "wavepath: error: --env 'nowhere.exr': file not found"));
+    CHECK(d.empty_of_images());
+    // The built-in box has no environment map to scale or turn: a usage error
+    Run scale = run_cli(d, "--env-scale 2 --spp 1 --size 8x6 -o out.exr");
+    INFO(scale.err);
+    CHECK(scale.status == 2);
+    CHECK(has(scale.err, "--env-scale: the scene has no environment map; give one with --env FILE"));
+    CHECK(d.empty_of_images());
+}
+
+TEST_CASE("cli edges: --env lights a scene without other light; --smooth applies to any scene",
+          "[cli][render]") {
+    TempDir d;
+    d.write("dark.json", R"({"materials": {"m": {"type": "diffuse"}},
+  "shapes": [{"type": "quad", "size": 1, "material": "m"}]})");
+    // A 4 x 2 equirectangular map (a PPM: OpenImageIO reads it, and it needs no writer here)
+    std::string ppm = "P3\n4 2\n255\n";
+    for (int i = 0; i < 8; ++i) ppm += "200 200 255\n";
+    d.write("sky.ppm", ppm);
+    std::string err = render_ok(d, "dark.json --env sky.ppm --env-scale 2 --env-rotate 90 --smooth 30");
+    CHECK_FALSE(has(err, "no light"));  // the environment lights it
+    std::string dark = render_ok(d, "dark.json --smooth 180");
+    CHECK(has(dark, "no light"));
 }

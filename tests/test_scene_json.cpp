@@ -19,6 +19,7 @@
 
 #include <glm/glm.hpp>
 
+#include "image/image.h"
 #include "render/loop.h"
 #include "render/wavefront.h"
 #include "scene/builtin.h"
@@ -718,4 +719,264 @@ TEST_CASE("json scene: cornell-box.json renders the built-in box's image", "[sce
     double sum = 0.0;
     for (const auto& p : fb) sum += double(p.sum.x) + p.sum.y + p.sum.z;
     CHECK(sum > 0.0);  // not a black image compared with a black image
+}
+
+// --- Appearance: textures, environment, smooth normals, uvs (issue 13) -----------------------
+
+namespace {
+
+Scene parse_in(const TempDir& d, const std::string& text) {
+    return wp::parse_json_scene(text, d.path / "t.json");
+}
+
+// A w x h linear float EXR of one colour.
+void write_exr(const fs::path& p, int w, int h, glm::vec3 c) {
+    wp::Image img(w, h);
+    for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x) {
+            float* px = img.pixel(x, y);
+            px[0] = c.x, px[1] = c.y, px[2] = c.z;
+        }
+    wp::write_image(p, img);
+}
+
+glm::dvec2 apply_uv(const glm::mat3& m, glm::vec2 uv) { return glm::dvec2(m * glm::vec3(uv, 1.0f)); }
+
+void check_near(glm::dvec3 got, glm::dvec3 want, double tol = 1e-5) {
+    INFO("got (" << got.x << ", " << got.y << ", " << got.z << "), want (" << want.x << ", "
+                 << want.y << ", " << want.z << ")");
+    CHECK(glm::length(got - want) <= tol);
+}
+
+const wp::Material& material_by_name(const Scene& s, const std::string& name) {
+    for (const auto& m : s.materials)
+        if (m.name == name) return m;
+    FAIL("no material " << name);
+    return s.materials.front();
+}
+
+double wrap_diff(double a, double b) {  // |a - b| modulo 1
+    const double d = std::abs((a - std::floor(a)) - (b - std::floor(b)));
+    return std::min(d, 1.0 - d);
+}
+
+}  // namespace
+
+TEST_CASE("json scene: texture references on materials: files, transforms, checkerboards",
+          "[scene][json][parser][texture]") {
+    TempDir d;
+    fs::create_directories(d.path / "tex");
+    write_exr(d.path / "tex" / "wood.exr", 4, 2, glm::vec3(0.5f));
+    Scene s = parse_in(d, R"({
+  "materials": {
+    "wood": {"type": "diffuse", "albedo_texture": "tex/wood.exr"},
+    "tiles": {"type": "glossy", "reflectance": 0.5,
+              "albedo_texture": {"file": "tex/wood.exr", "scale": [2, 4], "offset": [0.5, 0.25],
+                                 "rotation": 90, "filter": "nearest"},
+              "roughness_texture": {"checkerboard": [0.2, 1]},
+              "normal_map": "tex/wood.exr", "normal_scale": 0.5},
+    "sign": {"type": "diffuse", "reflectance": 0, "emission_texture": {"checkerboard": [[4, 0, 0], 2], "scale": 8}},
+    "leaf": {"type": "diffuse", "alpha_texture": {"checkerboard": [0, 1]}, "alpha_cutoff": 0.3},
+    "spare": {"type": "diffuse", "albedo_texture": "tex/other.exr"}
+  },
+  "shapes": [
+    {"type": "quad", "size": 1, "material": "wood"},
+    {"type": "quad", "size": 1, "material": "tiles"},
+    {"type": "quad", "size": 1, "material": "sign"},
+    {"type": "quad", "size": 1, "material": "leaf"}
+  ]})");
+    INFO(s.warnings.size());
+    // wood: a file relative to the scene; the reflectance defaults to 1 with a texture
+    const wp::Material& wood = material_by_name(s, "wood");
+    CHECK(wood.albedo == glm::vec3(1.0f));
+    REQUIRE(wood.albedo_map.used());
+    const wp::Texture& img = s.textures.at(std::size_t(wood.albedo_map.image));
+    CHECK(img.source == (d.path / "tex" / "wood.exr").string());
+    CHECK(img.width == 4);
+    CHECK(wood.albedo_map.uv_transform == glm::mat3(1.0f));
+    // tiles: uv' = T(offset) R(rotation) S(scale) uv; rotation 90: (u, v) -> (v, -u), so
+    // (0.1, 0.2) -> scale (0.2, 0.8) -> rotate (0.8, -0.2) -> offset (1.3, 0.05)
+    const wp::Material& tiles = material_by_name(s, "tiles");
+    CHECK(tiles.albedo == glm::vec3(0.5f));  // given: multiplies the texture
+    REQUIRE(tiles.albedo_map.used());
+    CHECK(tiles.albedo_map.image == wood.albedo_map.image);  // the same file is one image
+    const glm::dvec2 t = apply_uv(tiles.albedo_map.uv_transform, {0.1f, 0.2f});
+    CHECK(t.x == Approx(1.3).margin(1e-6));
+    CHECK(t.y == Approx(0.05).margin(1e-6));
+    CHECK(img.nearest);  // "filter": "nearest" on that file
+    // the roughness texture: alpha = 1 x G² when no roughness is given
+    CHECK(tiles.alpha == 1.0f);
+    REQUIRE(tiles.roughness_map.used());
+    const wp::Texture& rough = s.textures.at(std::size_t(tiles.roughness_map.image));
+    CHECK(rough.width == 2);
+    CHECK(rough.nearest);
+    REQUIRE(tiles.normal_map.used());
+    CHECK(tiles.normal_scale == 0.5f);
+    // sign: emission 1 times the checkerboard (radiance may exceed 1), scale 8
+    const wp::Material& sign = material_by_name(s, "sign");
+    CHECK(sign.emission == glm::vec3(1.0f));
+    REQUIRE(sign.emission_map.used());
+    const glm::dvec2 e = apply_uv(sign.emission_map.uv_transform, {0.25f, 0.5f});
+    CHECK(e.x == Approx(2.0));
+    CHECK(e.y == Approx(4.0));
+    // leaf: coverage is the checkerboard's first component, in A
+    const wp::Material& leaf = material_by_name(s, "leaf");
+    CHECK(leaf.alpha_cutoff == 0.3f);
+    REQUIRE(leaf.alpha_map.used());
+    const wp::Texture& a = s.textures.at(std::size_t(leaf.alpha_map.image));
+    REQUIRE(a.is_float());
+    CHECK(a.texelsf[3] == 0.0f);       // texel (0, 0): color0
+    CHECK(a.texelsf[4 + 3] == 1.0f);   // texel (1, 0): color1
+    // The unused material's texture is never read; textured quads carry uvs (s, 1 - t)
+    CHECK(s.textures.size() == 4);
+    for (const auto& w : s.warnings) CHECK_FALSE(has(w, "other.exr"));
+    REQUIRE(s.uvs.size() == s.positions.size());
+    for (std::size_t i = 0; i < 4; ++i)  // size 1: corner (-0.5, -0.5), edges +x, +y
+        check_near(glm::dvec3(s.uvs[i], 0), {s.positions[i].x + 0.5, 0.5 - s.positions[i].y, 0});
+}
+
+TEST_CASE("json scene: a missing texture file warns and loads", "[scene][json][parser][texture]") {
+    TempDir d;
+    Scene s = parse_in(d, with_shapes(R"({"type": "quad", "size": 1, "material": "m"},
+        {"type": "quad", "size": 1, "material": "lamp"})",
+                                      R"(, "m": {"type": "diffuse", "albedo_texture": "gone.png"})"));
+    bool warned = false;
+    for (const auto& w : s.warnings) warned = warned || has(w, "gone.png");
+    CHECK(warned);
+    CHECK(material_by_name(s, "m").albedo_map.used());
+}
+
+TEST_CASE("json scene: bad texture references name the place and the problem",
+          "[scene][json][parser][texture]") {
+    auto mat = [](const std::string& m) {
+        return "{\"materials\": {\"m\": " + m +
+               "},\n \"shapes\": [{\"type\": \"quad\", \"size\": 1, \"material\": \"m\"}]}";
+    };
+    CHECK(has(error_of(mat(R"({"type": "diffuse", "albedo_texture": 3})")),
+              "dir/t.json:1:59: /materials/m/albedo_texture: expected a texture: a file name, "
+              "{\"file\": ...} or {\"checkerboard\": [c0, c1]}, got the number 3"));
+    CHECK(has(error_of(mat(R"({"type": "diffuse", "albedo_texture": {"file": "a.png", "scael": 2}})")),
+              "/materials/m/albedo_texture/scael: unknown key 'scael' in a texture (did you mean "
+              "'scale'?)"));
+    CHECK(has(error_of(mat(R"({"type": "diffuse", "albedo_texture": {"file": "a.png", "checkerboard": [0, 1]}})")),
+              "/materials/m/albedo_texture/checkerboard: give either \"file\" or \"checkerboard\""));
+    CHECK(has(error_of(mat(R"({"type": "diffuse", "albedo_texture": {"scale": 2}})")),
+              "/materials/m/albedo_texture: a texture needs \"file\""));
+    CHECK(has(error_of(mat(R"({"type": "diffuse", "albedo_texture": {"file": "a.png", "filter": "cubic"}})")),
+              "/materials/m/albedo_texture/filter: expected \"bilinear\" or \"nearest\""));
+    CHECK(has(error_of(mat(R"({"type": "diffuse", "albedo_texture": {"checkerboard": [0, 2]}})")),
+              "/materials/m/albedo_texture/checkerboard/1: 2 is out of range: expected a number in [0, 1]"));
+    CHECK(has(error_of(mat(R"({"type": "diffuse", "albedo_texture": {"file": "a.png", "scale": [1, 0]}})")),
+              "/materials/m/albedo_texture/scale: a texture scale must not be 0"));
+    CHECK(has(error_of(mat(R"({"type": "diffuse", "roughness_texture": "r.png"})")),
+              "/materials/m/roughness_texture: 'roughness_texture' does not apply to a diffuse material"));
+    CHECK(has(error_of(mat(R"({"type": "diffuse", "normal_scale": 2})")),
+              "/materials/m/normal_scale: \"normal_scale\" needs a \"normal_map\""));
+    CHECK(has(error_of(mat(R"({"type": "diffuse", "alpha_texture": "a.png", "alpha_cutoff": 2})")),
+              "/materials/m/alpha_cutoff: 2 is out of range: expected a number in [0, 1]"));
+    CHECK(has(error_of(mat(R"({"type": "diffuse", "albedo_texture": ""})")),
+              "/materials/m/albedo_texture: expected a file name"));
+}
+
+TEST_CASE("json scene: the environment: file, scale, rotation", "[scene][json][parser][texture]") {
+    TempDir d;
+    write_exr(d.path / "sky.exr", 8, 4, glm::vec3(1.0f));
+    const std::string shapes = R"(, "materials": {"m": {"type": "diffuse"}},
+        "shapes": [{"type": "quad", "size": 1, "material": "m"}]})";
+    Scene s = parse_in(d, R"({"environment": {"file": "sky.exr", "scale": 2, "rotate_y": 90})" + shapes);
+    REQUIRE(s.environment);
+    CHECK(s.environment->scale == 2.0f);
+    CHECK(s.textures.at(std::size_t(s.environment->image)).source == (d.path / "sky.exr").string());
+    // 90 degrees about +y: x -> -z, z -> x
+    check_near(glm::dvec3(s.environment->to_world[0]), {0, 0, -1});
+    check_near(glm::dvec3(s.environment->to_world[1]), {0, 1, 0});
+    check_near(glm::dvec3(s.environment->to_world[2]), {1, 0, 0});
+    CHECK(wp::has_light(s));  // the environment lights the scene
+    // rotation [rx, ry, rz]: x first, then y, then z. [0, 90, 90]: x -> (0, 0, -1) -> (0, 0, -1);
+    // y -> y -> (-1, 0, 0); z -> (1, 0, 0) -> (0, 1, 0)
+    Scene r = parse_in(d, R"({"environment": {"file": "sky.exr", "rotation": [0, 90, 90]})" + shapes);
+    check_near(glm::dvec3(r.environment->to_world[0]), {0, 0, -1});
+    check_near(glm::dvec3(r.environment->to_world[1]), {-1, 0, 0});
+    check_near(glm::dvec3(r.environment->to_world[2]), {0, 1, 0});
+    CHECK(r.environment->scale == 1.0f);
+    // Errors
+    auto bad = [&](const std::string& env) {
+        return error_of(R"({"environment": )" + env + shapes);
+    };
+    CHECK(has(bad(R"({"scale": 1})"), "dir/t.json:1:17: /environment: an environment needs a \"file\""));
+    CHECK(has(bad(R"({"file": "a.exr", "rotation": [0, 1, 0], "rotate_y": 3})"),
+              "/environment/rotate_y: give either \"rotation\" or \"rotate_y\", not both"));
+    CHECK(has(bad(R"({"file": "a.exr", "scale": -1})"),
+              "/environment/scale: -1 is out of range: expected a number >= 0"));
+    CHECK(has(bad(R"({"file": "a.exr", "rotate": 3})"),
+              "/environment/rotate: unknown key 'rotate' in the environment"));
+    CHECK(has(bad(R"("sky.exr")"), "/environment: expected an environment"));
+    CHECK(has(error_of(R"({"envmap": {"file": "sky.exr"})" + shapes),
+              "/envmap: unknown key 'envmap' in the scene (did you mean 'environment'?)"));
+}
+
+TEST_CASE("json scene: \"smooth\" computes normals for a mesh without them",
+          "[scene][json][parser]") {
+    TempDir d;
+    // An open square pyramid (see the Mitsuba test): smooth normals (1, 1, 2)/sqrt 6 at the base
+    // corners, (0, 0, 1) at the apex
+    d.write("pyramid.obj", "v 0 0 1\nv 1 -1 0\nv 1 1 0\nv -1 1 0\nv -1 -1 0\n"
+                           "f 2 3 1\nf 3 4 1\nf 4 5 1\nf 5 2 1\n");
+    const std::string mats = R"("materials": {"m": {"type": "diffuse", "emission": 1}})";
+    Scene s = parse_in(d, "{" + mats + R"(, "shapes": [
+        {"type": "mesh", "file": "pyramid.obj", "material": "m", "smooth": 180},
+        {"type": "mesh", "file": "pyramid.obj", "material": "m", "transform": {"translate": [5, 0, 0]}}]})");
+    REQUIRE(s.triangle_count() == 8);
+    REQUIRE(s.normals.size() == s.positions.size());
+    for (std::size_t t = 0; t < 4; ++t)
+        for (int k = 0; k < 3; ++k) {
+            const glm::dvec3 p(s.positions[s.triangles[t][k]]);
+            const glm::dvec3 n(s.normals[s.triangles[t][k]]);
+            check_near(n, p.z == 1.0 ? glm::dvec3(0, 0, 1) : glm::normalize(glm::dvec3(p.x, p.y, 2)));
+        }
+    for (std::size_t t = 4; t < 8; ++t)  // no "smooth": flat
+        for (int k = 0; k < 3; ++k) CHECK(s.normals[s.triangles[t][k]] == glm::vec3(0.0f));
+    CHECK(has(error_of("{" + mats + R"(, "shapes": [{"type": "mesh", "file": "p.obj", "smooth": 200}]})"),
+              "/shapes/0/smooth: 200 is out of range: expected a number in [0, 180] degrees"));
+    CHECK(has(error_of("{" + mats + R"(, "shapes": [{"type": "quad", "size": 1, "material": "m", "smooth": 30}]})"),
+              "/shapes/0/smooth: 'smooth' does not apply to a quad shape (it is a key of mesh shapes)"));
+}
+
+TEST_CASE("json scene: spheres shade smooth; textured shapes get uvs", "[scene][json][parser][texture]") {
+    const glm::dvec3 c(1, 2, 3);
+    Scene s = parse(R"({"materials": {"m": {"type": "diffuse", "emission": 1},
+        "t": {"type": "diffuse", "albedo_texture": {"checkerboard": [0, 1]}}},
+      "shapes": [{"type": "sphere", "center": [1, 2, 3], "radius": 2, "rings": 8, "segments": 16, "material": "m"},
+                 {"type": "sphere", "center": [1, 2, 3], "radius": 2, "rings": 8, "segments": 16, "material": "t",
+                  "transform": {"translate": [10, 0, 0]}},
+                 {"type": "box", "size": 2, "material": "t"}]})");
+    // Untextured sphere: one vertex per lattice point, normals (p - c) / r
+    const std::size_t first_sphere = 2 + 16 * 7;
+    REQUIRE(s.normals.size() == s.positions.size());
+    for (std::size_t i = 0; i < first_sphere; ++i)
+        check_near(glm::dvec3(s.normals[i]), (glm::dvec3(s.positions[i]) - c) / 2.0);
+    // Textured sphere: uv = (phi / 2 pi, theta / pi), phi around +y from +z, theta from +y
+    const glm::dvec3 c2 = c + glm::dvec3(10, 0, 0);
+    std::size_t checked = 0;
+    for (std::size_t t = 2 * 16 * 7; t < 2 * 2 * 16 * 7; ++t)
+        for (int k = 0; k < 3; ++k) {
+            const std::size_t i = s.triangles[t][k];
+            const glm::dvec3 q = (glm::dvec3(s.positions[i]) - c2) / 2.0;
+            check_near(glm::dvec3(s.normals[i]), q, 1e-5);
+            CHECK(s.uvs[i].y == Approx(std::acos(q.y) / M_PI).margin(1e-5));
+            if (std::abs(q.y) < 0.999999)
+                CHECK(wrap_diff(s.uvs[i].x, std::atan2(q.x, q.z) / (2 * M_PI)) < 1e-5);
+            ++checked;
+        }
+    CHECK(checked == 3 * 2 * 16 * 7);
+    // Box: each face has its own vertices and the whole texture: (n + 1)² = 4 per face
+    const std::size_t box_first = s.triangle_count() - 12;
+    std::set<std::uint32_t> box_vertices;
+    for (std::size_t t = box_first; t < s.triangle_count(); ++t)
+        for (int k = 0; k < 3; ++k) box_vertices.insert(s.triangles[t][k]);
+    CHECK(box_vertices.size() == 24);
+    for (std::uint32_t i : box_vertices) {
+        CHECK((s.uvs[i].x == 0.0f || s.uvs[i].x == 1.0f));
+        CHECK((s.uvs[i].y == 0.0f || s.uvs[i].y == 1.0f));
+    }
 }

@@ -92,6 +92,11 @@ TEST_CASE("json CLI: every bad scene file fails with file, place and problem, an
          {"bad.json:2:58:", "/shapes/0/center/1", "32-bit float"}},
         {"no triangles", R"({"materials": {"m": {"type": "diffuse"}}, "shapes": []})",
          {"bad.json:1:", "/shapes", "no triangles"}},
+        {"environment file of the wrong type", tiny(R"(, "environment": {"file": 3})"),
+         {"bad.json:3:88:", "/environment/file", "expected a string, got the number 3"}},
+        {"smooth out of range",
+         R"({"materials": {"m": {"type": "diffuse"}}, "shapes": [{"type": "mesh", "file": "a.obj", "smooth": -5}]})",
+         {"bad.json:1:", "/shapes/0/smooth", "expected a number in [0, 180] degrees"}},
     };
     for (const Case& c : cases) {
         TempDir d;
@@ -191,4 +196,21 @@ TEST_CASE("json CLI: wavepath render scenes/cornell-box.json from the repository
     CHECK(r.status == 0);
     CHECK(fs::exists(out));
     CHECK_FALSE(has(r.err, "warning"));
+}
+
+TEST_CASE("json CLI: a missing texture or environment file warns, names it and renders",
+          "[scene][json][cli]") {
+    TempDir d;
+    d.write("tex.json",
+            R"({"camera": {"position": [0, 0, 2], "look_at": [0, 0, 0], "width": 8, "height": 6},
+  "environment": {"file": "sky-gone.exr"},
+  "materials": {"m": {"type": "diffuse", "albedo_texture": "wood-gone.png", "emission": 1}},
+  "shapes": [{"type": "quad", "size": 1, "material": "m"}]})");
+    Run r = run_cli(d, "tex.json --spp 1 -o out.exr");
+    INFO(r.err);
+    CHECK(r.status == 0);
+    CHECK(has(r.err, "warning"));
+    CHECK(has(r.err, "wood-gone.png"));
+    CHECK(has(r.err, "sky-gone.exr"));
+    CHECK(fs::exists(d.path / "out.exr"));
 }

@@ -21,6 +21,7 @@
 
 #include <glm/glm.hpp>
 
+#include "image/image.h"
 #include "render/loop.h"
 #include "render/wavefront.h"
 #include "scene/load.h"
@@ -475,9 +476,9 @@ TEST_CASE("mitsuba: unsupported kinds and properties warn, never silently",
   <shape type="rectangle"><bsdf type="twosided"><bsdf type="diffuse"><float name="frobnicate" value="1"/></bsdf></bsdf></shape>
   <shape type="rectangle"><bsdf type="hair"/></shape>
   <shape type="rectangle"><bsdf type="twosided"><bsdf type="diffuse">
-    <texture type="bitmap" name="reflectance"><string name="filename" value="wood.png"/></texture></bsdf></bsdf></shape>
+    <texture type="mesh_attribute" name="reflectance"><string name="name" value="vertex_color"/></texture></bsdf></bsdf></shape>
   <shape type="serialized"><string name="filename" value="x.serialized"/></shape>
-  <emitter type="envmap"><string name="filename" value="sky.exr"/></emitter>
+  <emitter type="spot"/>
   <medium type="homogeneous" id="fog"/>
   <include filename="more.xml"/>)");
     INFO(all_warnings(s));
@@ -486,9 +487,9 @@ TEST_CASE("mitsuba: unsupported kinds and properties warn, never silently",
     CHECK(has_warning(s, "test.xml:3:"));
     CHECK(has_warning(s, "property 'frobnicate' of <bsdf type=\"diffuse\"> is not supported"));
     CHECK(has_warning(s, "bsdf 'hair' is not supported; rendered as diffuse 0.5"));
-    CHECK(has_warning(s, "textures of type 'bitmap' are not supported"));
+    CHECK(has_warning(s, "textures of type 'mesh_attribute' are not supported"));
     CHECK(has_warning(s, "shape 'serialized' is not supported; skipped"));
-    CHECK(has_warning(s, "emitter 'envmap' is not supported"));
+    CHECK(has_warning(s, "emitter 'spot' is not supported"));
     CHECK(has_warning(s, "<medium> at the top level is not supported"));
     CHECK(has_warning(s, "<include> is not supported"));
     CHECK(s.triangle_count() == 6);
@@ -947,4 +948,428 @@ TEST_CASE("mitsuba: wavepath render refuses a bad scene and writes nothing",
     CHECK(WEXITSTATUS(rc) == 1);
     CHECK_THAT(ss.str(), Contains("bad.xml:2:3") && Contains("nowhere.obj' not found"));
     CHECK_FALSE(fs::exists(d.path / "out.exr"));
+}
+
+// --- Appearance: textures, shading normals, uvs, normal maps, masks, envmap (issue 13) --------
+
+namespace {
+
+Scene parse_in(const TempDir& d, const std::string& body) {
+    return parse_mitsuba("<scene version=\"3.0.0\">\n" + body + "\n</scene>\n", d.path / "test.xml");
+}
+
+// A w x h linear float EXR whose pixel (x, y) (row 0 at the top) is f(x, y).
+template <class F>
+void write_exr(const fs::path& p, int w, int h, F f) {
+    Image img(w, h);
+    for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x) {
+            const glm::vec3 c = f(x, y);
+            float* px = img.pixel(x, y);
+            px[0] = c.x, px[1] = c.y, px[2] = c.z;
+        }
+    write_image(p, img);
+}
+
+// Channel c of texel (x, y) of a texture, linear (float textures and checkerboards here).
+float texel_at(const Texture& t, int x, int y, int c) {
+    const std::size_t i = (std::size_t(y) * std::size_t(t.width) + std::size_t(x)) * 4 + std::size_t(c);
+    return t.is_float() ? t.texelsf.at(i) : float(t.texels8.at(i)) / 255.0f;
+}
+
+glm::vec2 apply_uv(const glm::mat3& m, glm::vec2 uv) { return glm::vec2(m * glm::vec3(uv, 1.0f)); }
+
+// u modulo 1 (seam copies of a vertex carry u + 1)
+double wrap01(double u) { return u - std::floor(u); }
+
+double angle_diff(double a, double b) {  // |a - b| modulo 1, for u values
+    const double d = std::abs(wrap01(a) - wrap01(b));
+    return std::min(d, 1.0 - d);
+}
+
+const Material& material_of(const Scene& s, std::size_t triangle) {
+    return s.materials.at(s.material_ids.at(triangle));
+}
+
+}  // namespace
+
+TEST_CASE("mitsuba: bitmap and checkerboard textures become albedo maps with their to_uv",
+          "[scene][mitsuba][parser][texture]") {
+    TempDir d;
+    write_exr(d.path / "wood.exr", 4, 2, [](int x, int y) { return glm::vec3(0.1f * float(x + 4 * y)); });
+    Scene s = parse_in(d, R"(
+  <texture type="bitmap" id="wood">
+    <string name="filename" value="wood.exr"/><string name="filter_type" value="nearest"/>
+    <transform name="to_uv"><scale x="2" y="3"/><translate x="0.5" y="0.25"/></transform>
+  </texture>
+  <shape type="rectangle"><bsdf type="twosided"><bsdf type="diffuse"><ref name="reflectance" id="wood"/></bsdf></bsdf></shape>
+  <shape type="rectangle"><bsdf type="twosided"><bsdf type="roughplastic">
+    <texture name="diffuse_reflectance" type="checkerboard">
+      <rgb name="color0" value="0.1, 0.2, 0.3"/><rgb name="color1" value="0.9"/>
+      <transform name="to_uv"><rotate z="1" angle="90"/></transform>
+    </texture></bsdf></bsdf></shape>
+  <shape type="rectangle"><bsdf type="twosided"><bsdf type="conductor">
+    <texture name="specular_reflectance" type="bitmap"><string name="filename" value="wood.exr"/></texture>
+  </bsdf></bsdf></shape>
+  <shape type="rectangle"><bsdf type="twosided"><bsdf type="diffuse"><rgb name="reflectance" value="0.3"/></bsdf></bsdf></shape>)");
+    INFO(all_warnings(s));
+    REQUIRE(s.triangle_count() == 8);
+    // Diffuse: the bitmap is the reflectance (albedo 1 times the map)
+    const Material& wood = material_of(s, 0);
+    CHECK(wood.kind == MaterialKind::Diffuse);
+    CHECK(wood.albedo == glm::vec3(1.0f));
+    REQUIRE(wood.albedo_map.used());
+    const Texture& img = s.textures.at(std::size_t(wood.albedo_map.image));
+    CHECK(img.source.find("wood.exr") != std::string::npos);
+    CHECK(img.width == 4);
+    CHECK(img.height == 2);
+    CHECK(img.nearest);  // filter_type nearest
+    // to_uv: scale, then translate: uv' = (2u + 0.5, 3v + 0.25)
+    check_vec(glm::dvec3(apply_uv(wood.albedo_map.uv_transform, {0.1f, 0.2f}), 0.0), {0.7, 0.85, 0});
+    // Checkerboard: 2 x 2 nearest, color0 at the top left and bottom right, color1 elsewhere
+    const Material& plastic = material_of(s, 2);
+    CHECK(plastic.albedo == glm::vec3(1.0f));
+    REQUIRE(plastic.albedo_map.used());
+    const Texture& cb = s.textures.at(std::size_t(plastic.albedo_map.image));
+    REQUIRE(cb.width == 2);
+    REQUIRE(cb.height == 2);
+    CHECK(cb.nearest);
+    for (int c = 0; c < 3; ++c) {
+        const float c0 = glm::vec3(0.1f, 0.2f, 0.3f)[c];
+        CHECK(texel_at(cb, 0, 0, c) == Approx(c0));
+        CHECK(texel_at(cb, 1, 1, c) == Approx(c0));
+        CHECK(texel_at(cb, 1, 0, c) == Approx(0.9f));
+        CHECK(texel_at(cb, 0, 1, c) == Approx(0.9f));
+    }
+    // to_uv rotate 90 degrees about z: (u, v) -> (-v, u)
+    check_vec(glm::dvec3(apply_uv(plastic.albedo_map.uv_transform, {0.1f, 0.2f}), 0.0), {-0.2, 0.1, 0});
+    // Conductor: the map times F0 (material "none": 1); the same file is one image
+    const Material& metal = material_of(s, 4);
+    CHECK(metal.kind == MaterialKind::Mirror);
+    CHECK(metal.albedo == glm::vec3(1.0f));
+    CHECK(metal.albedo_map.image == wood.albedo_map.image);
+    CHECK(metal.albedo_map.uv_transform == glm::mat3(1.0f));
+    // Textured shapes carry uvs; the rectangle's are ((x + 1) / 2, (y + 1) / 2)
+    REQUIRE(s.uvs.size() == s.positions.size());
+    for (std::size_t i = 0; i < s.positions.size(); ++i) {
+        const glm::vec3 p = s.positions[i];
+        if (!material_of(s, 0).textured()) continue;
+        check_vec(glm::dvec3(s.uvs[i], 0.0), {(p.x + 1.0) / 2.0, (p.y + 1.0) / 2.0, 0.0});
+        if (i == 3) break;  // the first rectangle's four vertices
+    }
+    CHECK_FALSE(material_of(s, 6).textured());
+    CHECK_FALSE(has_warning(s, "texture"));
+}
+
+TEST_CASE("mitsuba: bitmap options and missing files", "[scene][mitsuba][parser][texture]") {
+    TempDir d;
+    Scene s = parse_in(d, R"(
+  <shape type="rectangle"><bsdf type="twosided"><bsdf type="diffuse">
+    <texture name="reflectance" type="bitmap"><string name="filename" value="gone.png"/>
+      <string name="wrap_mode" value="mirror"/></texture></bsdf></bsdf></shape>)");
+    INFO(all_warnings(s));
+    // A missing file is a warning naming it and a placeholder, never an error
+    CHECK(has_warning(s, "gone.png"));
+    CHECK(has_warning(s, "wrap_mode 'mirror' is rendered as 'repeat'"));
+    CHECK(material_of(s, 0).albedo_map.used());
+    // Anisotropic roughness textures: their means, with a warning
+    Scene aniso = parse(R"(<shape type="rectangle"><bsdf type="twosided"><bsdf type="roughconductor">
+      <texture name="alpha_u" type="checkerboard"><float name="color0" value="0.1"/><float name="color1" value="0.3"/></texture>
+      <float name="alpha_v" value="0.2"/><string name="distribution" value="ggx"/></bsdf></bsdf></shape>)");
+    CHECK(material_of(aniso, 0).alpha == Approx(0.2f));  // sqrt(mean 0.2 x 0.2)
+    CHECK(has_warning(aniso, "alpha_u/alpha_v textures are not supported; their mean values are used"));
+    // Bad values: the element's place and the problem
+    CHECK_THAT(error_of_body("<shape type=\"cube\"><bsdf type=\"diffuse\">\n"
+                             "  <texture name=\"reflectance\" type=\"bitmap\">\n"
+                             "    <integer name=\"filename\" value=\"3\"/></texture></bsdf></shape>"),
+               Contains("test.xml:4:5: <integer name=\"filename\">: property 'filename' must be a string"));
+    CHECK_THAT(error_of_body("<shape type=\"cube\"><bsdf type=\"diffuse\">\n"
+                             "  <texture name=\"reflectance\" type=\"bitmap\"><string name=\"filename\" "
+                             "value=\"a.png\"/>\n    <string name=\"filter_type\" value=\"cubic\"/>"
+                             "</texture></bsdf></shape>"),
+               Contains("test.xml:4:5: <string name=\"filter_type\">: filter_type 'cubic' is not "
+                        "bilinear or nearest"));
+    CHECK_THAT(error_of_body("<shape type=\"cube\"><bsdf type=\"diffuse\">\n"
+                             "  <texture name=\"reflectance\" type=\"bitmap\"/></bsdf></shape>"),
+               Contains("test.xml:3:3: <texture type=\"bitmap\" name=\"reflectance\">: missing "
+                        "<string name=\"filename\""));
+    CHECK_THAT(error_of_body("<shape type=\"cube\"><bsdf type=\"diffuse\">\n"
+                             "  <texture name=\"reflectance\" type=\"checkerboard\"><rgb "
+                             "name=\"color1\" value=\"2\"/></texture></bsdf></shape>"),
+               Contains("test.xml:3:3:") &&
+                   Contains("reflectance: checkerboard colour (2, 2, 2) is outside [0, 1]"));
+    CHECK_THAT(error_of_body("<shape type=\"cube\"><bsdf type=\"diffuse\">\n"
+                             "  <ref name=\"reflectance\" id=\"nope\"/></bsdf></shape>"),
+               Contains("test.xml:3:3:") && Contains("no <texture id=\"nope\">"));
+    CHECK_THAT(error_of_body("<shape type=\"cube\"><bsdf type=\"normalmap\">\n"
+                             "  <bsdf type=\"diffuse\"/></bsdf></shape>"),
+               Contains("test.xml:2:20: <bsdf type=\"normalmap\">: needs <texture "
+                        "name=\"normalmap\""));
+}
+
+TEST_CASE("mitsuba: spheres get normals (p - c) / |p - c| and, textured, Mitsuba's uvs",
+          "[scene][mitsuba][parser][texture]") {
+    const glm::dvec3 c(1, 2, 3);
+    Scene s = parse(R"(
+  <shape type="sphere"><point name="center" x="1" y="2" z="3"/><float name="radius" value="2"/>
+    <bsdf type="diffuse"><texture name="reflectance" type="checkerboard"/></bsdf></shape>)");
+    INFO(all_warnings(s));
+    REQUIRE(s.triangle_count() == 5120);
+    REQUIRE(s.normals.size() == s.positions.size());
+    REQUIRE(s.uvs.size() == s.positions.size());
+    int poles = 0;
+    for (std::size_t i = 0; i < s.positions.size(); ++i) {
+        const glm::dvec3 q = (glm::dvec3(s.positions[i]) - c) / glm::length(glm::dvec3(s.positions[i]) - c);
+        check_vec(glm::dvec3(s.normals[i]), q);
+        // v = theta / pi from +z; u = phi / 2 pi, phi = atan2(y, x) (any u at the poles)
+        CHECK(s.uvs[i].y == Approx(std::acos(q.z) / kPi).margin(1e-5));
+        if (std::hypot(q.x, q.y) < 1e-6) {
+            ++poles;
+            continue;
+        }
+        CHECK(angle_diff(s.uvs[i].x, std::atan2(q.y, q.x) / (2 * kPi)) < 1e-5);
+    }
+    CHECK(poles > 0);  // the icosphere has vertices at both poles: they get one copy per triangle
+    // No triangle spans the seam: its uvs interpolate like the surface (the widest are the
+    // six around each pole, 1/6 of a turn)
+    float widest = 0.0f;
+    for (const auto& t : s.triangles) {
+        const float lo = std::min({s.uvs[t.x].x, s.uvs[t.y].x, s.uvs[t.z].x});
+        const float hi = std::max({s.uvs[t.x].x, s.uvs[t.y].x, s.uvs[t.z].x});
+        widest = std::max(widest, hi - lo);
+    }
+    CHECK(widest < 0.2f);
+    // flip_normals: inward normals; no texture: no uvs (and no seam copies)
+    Scene f = parse(R"(<shape type="sphere"><float name="radius" value="0.5"/>
+      <boolean name="flip_normals" value="true"/></shape>)");
+    REQUIRE(f.normals.size() == f.positions.size());
+    CHECK(f.uvs.empty());
+    CHECK(f.positions.size() == 2562);  // 10 * 4^4 + 2: the icosphere's own vertices
+    for (std::size_t i = 0; i < f.positions.size(); ++i)
+        check_vec(glm::dvec3(f.normals[i]), -glm::normalize(glm::dvec3(f.positions[i])));
+    // to_world turns the parameterization with the sphere: after a rotation of 90 degrees
+    // about x, the local +z pole (v = 0) is at world -y
+    Scene r = parse(R"(<shape type="sphere"><transform name="to_world"><rotate x="1" angle="90"/></transform>
+      <bsdf type="diffuse"><texture name="reflectance" type="checkerboard"/></bsdf></shape>)");
+    std::size_t lowest = 0;
+    for (std::size_t i = 0; i < r.positions.size(); ++i)
+        if (r.positions[i].y < r.positions[lowest].y) lowest = i;
+    CHECK(r.uvs[lowest].y == Approx(0.0).margin(1e-6));
+    check_vec(glm::dvec3(r.normals[lowest]), {0, -1, 0});
+}
+
+TEST_CASE("mitsuba: rectangle, cube, disk and cylinder get Mitsuba's uvs",
+          "[scene][mitsuba][parser][texture]") {
+    const std::string bsdf = R"(<bsdf type="diffuse"><texture name="reflectance" type="checkerboard"/></bsdf>)";
+    // Rectangle: uv = ((x + 1) / 2, (y + 1) / 2) in its own space, whatever to_world does
+    Scene rect = parse(R"(<shape type="rectangle"><transform name="to_world"><scale value="3"/>
+      <translate z="1"/></transform>)" + bsdf + "</shape>");
+    REQUIRE(rect.uvs.size() == 4);
+    CHECK(rect.normals.empty());  // flat: the geometric normal shades
+    for (std::size_t i = 0; i < 4; ++i)
+        check_vec(glm::dvec3(rect.uvs[i], 0),
+                  {(rect.positions[i].x / 3.0 + 1) / 2, (rect.positions[i].y / 3.0 + 1) / 2, 0});
+    // Cube: 24 vertices, each face the whole texture; on the +z face uv = ((y + 1) / 2, (x + 1) / 2)
+    Scene cube = parse("<shape type=\"cube\">" + bsdf + "</shape>");
+    REQUIRE(cube.positions.size() == 24);
+    REQUIRE(cube.triangle_count() == 12);
+    int on_top = 0;
+    for (std::size_t i = 0; i < 24; ++i) {
+        const glm::vec3 p = cube.positions[i];
+        CHECK(glm::all(glm::greaterThanEqual(cube.uvs[i], glm::vec2(0.0f))));
+        CHECK(glm::all(glm::lessThanEqual(cube.uvs[i], glm::vec2(1.0f))));
+        if (p.z != 1.0f) continue;
+        // the +z face is the 4th face of Mitsuba's table (vertices 12..15)
+        if (i < 12 || i > 15) continue;
+        ++on_top;
+        check_vec(glm::dvec3(cube.uvs[i], 0), {(p.y + 1) / 2.0, (p.x + 1) / 2.0, 0});
+    }
+    CHECK(on_top == 4);
+    // Disk: uv = (r, phi / 2 pi): the rim at u = 1, the centre at u = 0
+    Scene disk = parse("<shape type=\"disk\">" + bsdf + "</shape>");
+    REQUIRE(disk.uvs.size() == disk.positions.size());
+    for (std::size_t i = 0; i < disk.positions.size(); ++i) {
+        const glm::dvec3 p(disk.positions[i]);
+        if (glm::length(p) == 0.0) {
+            CHECK(disk.uvs[i].x == 0.0f);
+            continue;
+        }
+        CHECK(disk.uvs[i].x == 1.0f);
+        CHECK(angle_diff(disk.uvs[i].y, std::atan2(p.y, p.x) / (2 * kPi)) < 1e-6);
+    }
+    // Cylinder along +x: Mitsuba's frame for d = +x has s = (0, 0, -1), t = (0, 1, 0), so
+    // u = atan2(y, -z) / 2 pi, v = x / length; normals point away from the axis
+    Scene cyl = parse(R"(<shape type="cylinder"><point name="p0" value="0, 0, 0"/>
+      <point name="p1" value="2, 0, 0"/><float name="radius" value="0.5"/>)" + bsdf + "</shape>");
+    REQUIRE(cyl.uvs.size() == cyl.positions.size());
+    REQUIRE(cyl.normals.size() == cyl.positions.size());
+    for (std::size_t i = 0; i < cyl.positions.size(); ++i) {
+        const glm::dvec3 p(cyl.positions[i]);
+        check_vec(glm::dvec3(cyl.normals[i]), glm::normalize(glm::dvec3(0, p.y, p.z)));
+        CHECK(angle_diff(cyl.uvs[i].x, std::atan2(p.y, -p.z) / (2 * kPi)) < 1e-6);
+        CHECK(cyl.uvs[i].y == Approx(p.x / 2.0).margin(1e-6));
+    }
+    for (const auto& t : cyl.triangles)  // no triangle across the seam
+        CHECK(std::abs(cyl.uvs[t.x].x - cyl.uvs[t.z].x) < 0.1f);
+}
+
+TEST_CASE("mitsuba: normalmap and mask wrap their BSDF with a normal map and an alpha cut-out",
+          "[scene][mitsuba][parser][texture]") {
+    TempDir d;
+    write_exr(d.path / "bumps.exr", 2, 2, [](int, int) { return glm::vec3(0.5f, 0.5f, 1.0f); });
+    // Opacity 0/1: a fence of columns; 0.3 everywhere: a stochastic mask
+    write_exr(d.path / "fence.exr", 4, 1, [](int x, int) { return glm::vec3(x % 2 ? 1.0f : 0.0f); });
+    write_exr(d.path / "haze.exr", 2, 1, [](int, int) { return glm::vec3(0.3f); });
+    Scene s = parse_in(d, R"(
+  <shape type="rectangle"><bsdf type="normalmap">
+    <texture name="normalmap" type="bitmap"><boolean name="raw" value="true"/><string name="filename" value="bumps.exr"/></texture>
+    <bsdf type="twosided"><bsdf type="diffuse"><rgb name="reflectance" value="0.25"/></bsdf></bsdf></bsdf></shape>
+  <shape type="rectangle"><bsdf type="mask">
+    <texture name="opacity" type="bitmap"><string name="filename" value="fence.exr"/>
+      <transform name="to_uv"><scale value="4"/></transform></texture>
+    <bsdf type="twosided"><bsdf type="diffuse"/></bsdf></bsdf></shape>
+  <shape type="rectangle"><bsdf type="mask"><float name="opacity" value="0"/>
+    <bsdf type="twosided"><bsdf type="diffuse"/></bsdf></bsdf></shape>)");
+    INFO(all_warnings(s));
+    const Material& nm = material_of(s, 0);
+    CHECK(nm.kind == MaterialKind::Diffuse);
+    CHECK(nm.albedo == glm::vec3(0.25f));
+    REQUIRE(nm.normal_map.used());
+    CHECK(s.textures.at(std::size_t(nm.normal_map.image)).source.find("bumps.exr") != std::string::npos);
+    CHECK(nm.normal_scale == 1.0f);
+    // Mitsuba's frame: x along dp/du, y = n x (x): on the rectangle dp/du = +x, and y = +y,
+    // the direction of increasing v (v = (y + 1) / 2), so tangents (1, 0, 0) with w = +1
+    REQUIRE(s.tangents.size() == s.positions.size());
+    for (std::size_t i = 0; i < 4; ++i) {
+        check_vec(glm::dvec3(s.tangents[i]), {1, 0, 0});
+        CHECK(s.tangents[i].w == 1.0f);
+    }
+    for (std::size_t i = 4; i < s.positions.size(); ++i)  // no normal map: no tangents
+        CHECK(s.tangents[i] == glm::vec4(0.0f));
+    // Mask from a 0/1 bitmap: coverage (the alpha map's A) = the opacity, cutoff 0.5, exact
+    const Material& fence = material_of(s, 2);
+    REQUIRE(fence.alpha_map.used());
+    CHECK(fence.alpha_cutoff == 0.5f);
+    const Texture& a = s.textures.at(std::size_t(fence.alpha_map.image));
+    REQUIRE(a.width == 4);
+    for (int x = 0; x < 4; ++x) CHECK(texel_at(a, x, 0, 3) == (x % 2 ? 1.0f : 0.0f));
+    check_vec(glm::dvec3(apply_uv(fence.alpha_map.uv_transform, {0.25f, 0.5f}), 0), {1, 2, 0});
+    // Opacity 0: a 1 x 1 map of coverage 0 (nothing there)
+    const Material& gone = material_of(s, 4);
+    REQUIRE(gone.alpha_map.used());
+    CHECK(texel_at(s.textures.at(std::size_t(gone.alpha_map.image)), 0, 0, 3) == 0.0f);
+    CHECK_FALSE(has_warning(s, "stochastic"));
+    // Opacity between 0 and 1 warns once; the default (0.5) is opaque with a cut-out
+    Scene h = parse_in(d, R"(
+  <shape type="rectangle"><bsdf type="mask"><texture name="opacity" type="bitmap">
+    <string name="filename" value="haze.exr"/></texture><bsdf type="diffuse"/></bsdf></shape>
+  <shape type="rectangle"><bsdf type="mask"><bsdf type="diffuse"/></bsdf></shape>
+  <shape type="rectangle"><bsdf type="mask"><texture name="opacity" type="bitmap">
+    <string name="filename" value="nothere.exr"/></texture><bsdf type="diffuse"/></bsdf></shape>)");
+    INFO(all_warnings(h));
+    CHECK(count_warnings(h, "stochastic") == 1);
+    CHECK(has_warning(h, "is opaque (2 times; the first here)"));
+    REQUIRE(material_of(h, 0).alpha_map.used());
+    CHECK(texel_at(h.textures.at(std::size_t(material_of(h, 0).alpha_map.image)), 1, 0, 3) ==
+          Approx(0.3f));
+    CHECK_FALSE(material_of(h, 2).alpha_map.used());  // 0.5 >= the cutoff: opaque
+    CHECK_FALSE(material_of(h, 4).alpha_map.used());  // a missing mask file leaves the surface
+    CHECK(has_warning(h, "nothere.exr"));
+}
+
+TEST_CASE("mitsuba: roughconductor alpha as a texture is alpha_max times G squared",
+          "[scene][mitsuba][parser][texture]") {
+    Scene s = parse(R"(
+  <shape type="rectangle"><bsdf type="twosided"><bsdf type="roughconductor"><string name="distribution" value="ggx"/>
+    <texture name="alpha" type="checkerboard"><float name="color0" value="0.04"/><float name="color1" value="0.36"/></texture>
+  </bsdf></bsdf></shape>)");
+    INFO(all_warnings(s));
+    const Material& m = material_of(s, 0);
+    CHECK(m.kind == MaterialKind::Glossy);
+    CHECK(m.alpha == Approx(0.36f));
+    REQUIRE(m.roughness_map.used());
+    const Texture& r = s.textures.at(std::size_t(m.roughness_map.image));
+    // alpha = 0.36 G²: G = sqrt(0.04 / 0.36) = 1/3 where color0 is, 1 where color1 is
+    CHECK(texel_at(r, 0, 0, 1) == Approx(1.0 / 3.0).epsilon(1e-5));
+    CHECK(texel_at(r, 1, 1, 1) == Approx(1.0 / 3.0).epsilon(1e-5));
+    CHECK(texel_at(r, 1, 0, 1) == Approx(1.0).epsilon(1e-5));
+    CHECK(texel_at(r, 0, 1, 1) == Approx(1.0).epsilon(1e-5));
+    CHECK(s.textures.size() == 1);  // the checkerboard it was made from is not kept
+}
+
+TEST_CASE("mitsuba: a textured area emitter's radiance is its emission map",
+          "[scene][mitsuba][parser][texture]") {
+    Scene s = parse(R"(<shape type="rectangle"><emitter type="area">
+      <texture name="radiance" type="checkerboard"><float name="color0" value="4"/><float name="color1" value="0"/></texture>
+    </emitter></shape>)");
+    const Material& m = material_of(s, 0);
+    CHECK(m.emission == glm::vec3(1.0f));
+    REQUIRE(m.emission_map.used());
+    CHECK(texel_at(s.textures.at(std::size_t(m.emission_map.image)), 0, 0, 0) == 4.0f);
+    CHECK(s.uvs.size() == 4);
+}
+
+TEST_CASE("mitsuba: envmap is the environment (file, scale, rotation); a second is an error",
+          "[scene][mitsuba][parser][texture]") {
+    TempDir d;
+    write_exr(d.path / "sky.exr", 8, 4, [](int, int) { return glm::vec3(1.0f); });
+    Scene s = parse_in(d, std::string(kRect) + R"(
+  <emitter type="envmap"><string name="filename" value="sky.exr"/><float name="scale" value="2.5"/>
+    <transform name="to_world"><rotate y="1" angle="90"/></transform></emitter>
+  <emitter type="constant"><rgb name="radiance" value="0.5"/></emitter>)");
+    INFO(all_warnings(s));
+    REQUIRE(s.environment);
+    CHECK(s.environment->scale == 2.5f);
+    const Texture& map = s.textures.at(std::size_t(s.environment->image));
+    CHECK(map.source.find("sky.exr") != std::string::npos);
+    CHECK(map.width == 8);
+    // 90 degrees about +y: x -> -z, y -> y, z -> x (columns of to_world)
+    const glm::mat3 r = s.environment->to_world;
+    check_vec(glm::dvec3(r[0]), {0, 0, -1});
+    check_vec(glm::dvec3(r[1]), {0, 1, 0});
+    check_vec(glm::dvec3(r[2]), {1, 0, 0});
+    CHECK(s.background == glm::vec3(0.5f));  // the constant emitter stays the background
+    CHECK_FALSE(has_warning(s, "envmap"));
+    // A to_world that scales keeps only its rotation, with a warning
+    Scene sc = parse_in(d, std::string(kRect) + R"(
+  <emitter type="envmap"><string name="filename" value="sky.exr"/>
+    <transform name="to_world"><scale value="3"/></transform></emitter>)");
+    CHECK(has_warning(sc, "not a rotation"));
+    CHECK(sc.environment->to_world == glm::mat3(1.0f));
+    // One environment only
+    CHECK_THAT(error_of_body(std::string(kRect) + R"(
+<emitter type="envmap"><string name="filename" value="a.exr"/></emitter>
+<emitter type="envmap"><string name="filename" value="b.exr"/></emitter>)"),
+               Contains("test.xml:4:1: <emitter type=\"envmap\">: a second environment map: "
+                        "wavepath takes one (the first is at test.xml:3:1)"));
+    CHECK_THAT(error_of_body(std::string(kRect) + "\n<emitter type=\"envmap\"/>"),
+               Contains("test.xml:3:1: <emitter type=\"envmap\">: missing <string name=\"filename\""));
+}
+
+TEST_CASE("mitsuba: meshes without normals shade smooth unless face_normals",
+          "[scene][mitsuba][parser]") {
+    TempDir d;
+    // An open square pyramid: apex (0, 0, 1), base corners (+-1, +-1, 0), no normals. At a
+    // base corner two faces meet, with normals (1, 0, 1)/sqrt 2 and (0, 1, 1)/sqrt 2 and equal
+    // angles, so the smooth normal there is (1, 1, 2)/sqrt 6; at the apex (0, 0, 1).
+    d.write("pyramid.obj", "v 0 0 1\nv 1 -1 0\nv 1 1 0\nv -1 1 0\nv -1 -1 0\n"
+                           "f 2 3 1\nf 3 4 1\nf 4 5 1\nf 5 2 1\n");
+    Scene s = parse_in(d, R"(<shape type="obj"><string name="filename" value="pyramid.obj"/></shape>
+  <shape type="obj"><string name="filename" value="pyramid.obj"/><boolean name="face_normals" value="true"/>
+    <transform name="to_world"><translate x="5"/></transform></shape>)");
+    INFO(all_warnings(s));
+    REQUIRE(s.triangle_count() == 8);
+    REQUIRE(s.normals.size() == s.positions.size());
+    for (std::size_t t = 0; t < 4; ++t)
+        for (int k = 0; k < 3; ++k) {
+            const glm::dvec3 p(s.positions[s.triangles[t][k]]);
+            const glm::dvec3 n(s.normals[s.triangles[t][k]]);
+            if (p.z == 1.0)
+                check_vec(n, {0, 0, 1});
+            else
+                check_vec(n, glm::normalize(glm::dvec3(p.x, p.y, 2.0)));
+        }
+    // face_normals: the second pyramid has none (flat shading)
+    for (std::size_t t = 4; t < 8; ++t)
+        for (int k = 0; k < 3; ++k) CHECK(s.normals[s.triangles[t][k]] == glm::vec3(0.0f));
 }

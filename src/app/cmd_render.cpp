@@ -43,6 +43,7 @@ struct RenderArgs {
     int spp = limits::kDefaultSpp;
     double time_s = 0.0;   // 0: no time limit
     ConfigArgs config;     // depth, size, device, traversal, sampling, glossy, rr-depth (app/render_options.h)
+    SceneEdits edits;      // --env, --env-scale, --env-rotate, --smooth (app/render_options.h)
     long long seed = 0;    // 0..limits::kMaxSeed, checked in run_render
     std::string output;    // empty: render.exr + render.png in the current folder
     std::string profile;   // profile JSON path; the trace goes next to it
@@ -93,6 +94,7 @@ int run_render(const RenderArgs& a) {
         usage_fail("--debug-nan-period must be in 1..{} (got {})",
                    std::numeric_limits<int>::max(), a.debug_nan_period);
     parse_debug_nan(a.debug_nan);  // checked before any work
+    check_scene_edits(a.edits);
 
     // 2. Outputs: checked before any work, so a bad path fails in milliseconds.
     std::vector<fs::path> outputs;
@@ -122,7 +124,7 @@ int run_render(const RenderArgs& a) {
     // 3. Scene and device.
     Scene scene = [&] {
         HostSpan span("load");
-        return load_scene(a.scene, a.quiet);
+        return load_scene(a.scene, a.quiet, &a.edits);
     }();
     render::RenderSettings s = make_settings(a.config, scene);
     // The scene file's spp and seed, unless given on the command line.
@@ -302,6 +304,7 @@ Subcommand add_render(CLI::App& app) {
                   "flight complete); 0 = no limit")
         ->capture_default_str();
     add_config_options(c, args->config);
+    add_scene_edit_options(c, args->edits);
     c->add_option("--seed", args->seed,
                   "Random seed: the same seed on the same device gives a bit-identical image "
                   "(beats the scene file's seed)")

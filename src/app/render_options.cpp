@@ -2,15 +2,20 @@
 
 #include <unistd.h>
 
+#include <array>
 #include <cctype>
 #include <cerrno>
 #include <cstdlib>
 #include <cstring>
 #include <regex>
 
+#include <glm/gtc/matrix_transform.hpp>
+
 #include "image/image.h"
 #include "scene/builtin.h"
 #include "scene/load.h"
+#include "scene/normals.h"
+#include "scene/texture.h"
 #include "scene/validate.h"
 #include "util/error.h"
 #include "util/timer.h"
@@ -110,6 +115,98 @@ render::RenderSettings make_settings(const ConfigArgs& a, const Scene& scene) {
     return s;
 }
 
+void add_scene_edit_options(CLI::App* c, SceneEdits& e) {
+    c->add_option("--env", e.env,
+                  "Environment light: an equirectangular (latitude-longitude, 2:1) image (.exr, "
+                  ".hdr or any format the textures read) that replaces the scene's environment "
+                  "map")
+        ->type_name("FILE")
+        ->group("Scene");
+    c->add_option("--env-scale", e.env_scale,
+                  "Radiance scale S of the environment map, 0..1e6 (with --env: its scale; "
+                  "without: multiplies the scene file's). Default 1")
+        ->type_name("S")
+        ->group("Scene")
+        ->each([&e](const std::string&) { e.env_scale_given = true; });
+    c->add_option("--env-rotate", e.env_rotate,
+                  "Turn the environment map by DEG degrees about +y (right-handed), -360..360 "
+                  "(with --env: its rotation; without: after the scene file's own). Default 0")
+        ->type_name("DEG")
+        ->group("Scene")
+        ->each([&e](const std::string&) { e.env_rotate_given = true; });
+    c->add_option("--smooth", e.smooth,
+                  "Smooth shading for every triangle that has no normals (any scene): "
+                  "angle-weighted vertex normals, split where faces meet at more than DEG "
+                  "degrees, 0..180 (180: no creases)")
+        ->type_name("DEG")
+        ->group("Scene")
+        ->each([&e](const std::string&) { e.smooth_given = true; });
+}
+
+void check_scene_edits(const SceneEdits& e) {
+    if (!(e.env_scale >= 0.0 && e.env_scale <= limits::kMaxEnvScale))
+        usage_fail("--env-scale must be in 0..{} (got {})", limits::kMaxEnvScale, e.env_scale);
+    if (!(e.env_rotate >= -limits::kMaxEnvRotateDeg && e.env_rotate <= limits::kMaxEnvRotateDeg))
+        usage_fail("--env-rotate must be in -{}..{} degrees (got {})", limits::kMaxEnvRotateDeg,
+                   limits::kMaxEnvRotateDeg, e.env_rotate);
+    if (e.smooth_given && !(e.smooth >= 0.0 && e.smooth <= limits::kMaxCreaseDeg))
+        usage_fail("--smooth must be in 0..{} degrees (got {})", limits::kMaxCreaseDeg, e.smooth);
+    if (!e.env.empty()) {
+        std::error_code ec;
+        if (!fs::is_regular_file(e.env, ec))
+            fail("--env '{}': {}", e.env,
+                 fs::exists(e.env, ec) ? "not a regular file" : "file not found");
+    }
+}
+
+namespace {
+
+// Removes image `i` from the scene's textures when nothing else uses it, renumbering the
+// references to later images.
+void drop_unused_image(Scene& scene, int i) {
+    if (i < 0 || std::size_t(i) >= scene.textures.size()) return;
+    auto refs = [](Material& m) {
+        return std::array<TextureRef*, 5>{&m.albedo_map, &m.roughness_map, &m.emission_map,
+                                          &m.normal_map, &m.alpha_map};
+    };
+    for (Material& m : scene.materials)
+        for (TextureRef* r : refs(m))
+            if (r->image == i) return;
+    scene.textures.erase(scene.textures.begin() + i);
+    for (Material& m : scene.materials)
+        for (TextureRef* r : refs(m))
+            if (r->image > i) --r->image;
+    if (scene.environment && scene.environment->image > i) --scene.environment->image;
+}
+
+glm::mat3 rotate_y(double degrees) {
+    return glm::mat3(glm::rotate(glm::mat4(1.0f), glm::radians(float(degrees)), glm::vec3(0, 1, 0)));
+}
+
+}  // namespace
+
+void apply_scene_edits(const SceneEdits& e, Scene& scene) {
+    if (!e.env.empty()) {
+        if (scene.environment) {
+            const int old = scene.environment->image;
+            scene.environment.reset();
+            drop_unused_image(scene, old);
+        }
+        Environment env;
+        env.image = add_texture_file(scene, e.env, TextureUse::Colour);
+        env.scale = float(e.env_scale);
+        env.to_world = rotate_y(e.env_rotate);
+        scene.environment = env;
+    } else if (e.env_scale_given || e.env_rotate_given) {
+        if (!scene.environment)
+            usage_fail("{}: the scene has no environment map; give one with --env FILE",
+                       e.env_scale_given ? "--env-scale" : "--env-rotate");
+        scene.environment->scale *= float(e.env_scale);
+        scene.environment->to_world = rotate_y(e.env_rotate) * scene.environment->to_world;
+    }
+    if (e.smooth_given) smooth_normals(scene, float(e.smooth), 0);
+}
+
 const char* const kSceneArgHelp =
     "Scene: a wavepath scene file (.json), a Mitsuba 3 scene (.xml), a mesh file (.obj with its "
     ".mtl, .gltf, .glb, .ply, .stl, .3ds, .dae, .fbx), or builtin:cornell-box (the "
@@ -136,9 +233,11 @@ Scene load_any(const std::string& arg, bool quiet) {
 
 }  // namespace
 
-Scene load_scene(const std::string& arg, bool quiet) {
+Scene load_scene(const std::string& arg, bool quiet, const SceneEdits* edits) {
     Scene scene = load_any(arg, quiet);
-    // The one no-light warning, whatever the format (OBJ, PLY, glTF, XML, JSON, built-ins).
+    if (edits) apply_scene_edits(*edits, scene);
+    // The one no-light warning, whatever the format (OBJ, PLY, glTF, XML, JSON, built-ins),
+    // after the edits (--env lights a scene too).
     if (!has_light(scene))
         scene.warnings.push_back(no_light_warning(arg.empty() ? "builtin:cornell-box" : arg));
     if (!quiet)

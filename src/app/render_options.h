@@ -40,13 +40,40 @@ void add_config_options(CLI::App* c, ConfigArgs& a);
 // Throws wp::Error naming the option.
 render::RenderSettings make_settings(const ConfigArgs& a, const Scene& scene);
 
+// The options of `render` that change the scene after loading (applied before rendering):
+// --env FILE (an equirectangular map replacing the scene's environment), --env-scale S,
+// --env-rotate DEG (about +y), --smooth DEG (computed smooth normals, crease angle DEG, for
+// every triangle without normals). Ranges: util/limits.h.
+struct SceneEdits {
+    std::string env;          // empty: the scene's own environment (if any)
+    double env_scale = 1.0;   // 0..limits::kMaxEnvScale
+    double env_rotate = 0.0;  // degrees, -kMaxEnvRotateDeg..kMaxEnvRotateDeg
+    double smooth = 0.0;      // crease angle in degrees, 0..kMaxCreaseDeg
+    bool env_scale_given = false, env_rotate_given = false, smooth_given = false;
+};
+
+// Registers --env, --env-scale, --env-rotate and --smooth on `c`.
+void add_scene_edit_options(CLI::App* c, SceneEdits& e);
+
+// Checks the ranges (wp::UsageError naming the option and the allowed range) and that the
+// --env file exists (wp::Error); before any work.
+void check_scene_edits(const SceneEdits& e);
+
+// Applies the edits to a loaded scene. With --env: its map (scene/texture.h, read as colour)
+// with scale S and rotation DEG about +y replaces the scene's environment. Without --env,
+// --env-scale multiplies and --env-rotate turns (after its own rotation) the scene's
+// environment; a scene without one is a usage error. --smooth: scene/normals.h
+// smooth_normals(scene, DEG) for every triangle without normals.
+void apply_scene_edits(const SceneEdits& e, Scene& scene);
+
 // The built-in Cornell box for an empty argument or "builtin:cornell-box", the furnace box
 // of the render tests (emission 0.5, albedo 0.6) for "builtin:closed-box-furnace", the
 // MIS test scene for "builtin:veach-plates", else the scene file (scene/load.h). Prints
 // the load report (scene/load.h: describe_scene) and the warnings to stderr unless quiet.
 // A scene file without a depth of its own gets render.depth = limits::kDefaultSceneDepth;
 // the built-in scenes leave it unset (--depth's default, limits::kDefaultDepth, applies).
-Scene load_scene(const std::string& arg, bool quiet = false);
+// `edits` (when given) are applied before the warnings are printed.
+Scene load_scene(const std::string& arg, bool quiet = false, const SceneEdits* edits = nullptr);
 
 // The one-line list of what `load_scene` accepts, for --help texts.
 extern const char* const kSceneArgHelp;

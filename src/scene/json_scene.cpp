@@ -18,7 +18,10 @@
 #include <nlohmann/json.hpp>
 
 #include "scene/load.h"
+#include "scene/normals.h"
 #include "scene/procedural.h"
+#include "scene/shape_uv.h"
+#include "scene/texture.h"
 #include "scene/validate.h"
 #include "util/error.h"
 #include "util/limits.h"
@@ -341,6 +344,11 @@ std::string suggest(std::string_view word, std::span<const std::string_view> kno
         {"meshes", "shapes"},      {"lights", "shapes"},       {"integrator", "render"},
         {"translation", "translate"}, {"rotation", "rotate"},  {"angle", "degrees"},
         {"subdivision", "subdivisions"}, {"divisions", "subdivisions"}, {"res", "width"},
+        {"env", "environment"},    {"envmap", "environment"},  {"sky", "environment"},
+        {"texture", "albedo_texture"}, {"map_kd", "albedo_texture"},
+        {"normalmap", "normal_map"},   {"bump", "normal_map"}, {"opacity", "alpha_texture"},
+        {"mask", "alpha_texture"},     {"cutoff", "alpha_cutoff"}, {"smoothing", "smooth"},
+        {"crease", "smooth"},          {"filter_type", "filter"},
     };
     auto is_known = [&](std::string_view k) {
         return std::find(known.begin(), known.end(), k) != known.end();
@@ -394,8 +402,9 @@ std::string describe(const Json& v) {
 
 using Keys = std::span<const std::string_view>;
 
-constexpr std::array<std::string_view, 6> kTopKeys{"version", "camera",  "background",
-                                                   "render",  "materials", "shapes"};
+constexpr std::array<std::string_view, 7> kTopKeys{"version", "camera",    "background",
+                                                   "render",  "materials", "shapes",
+                                                   "environment"};
 constexpr std::array<std::string_view, 8> kCameraKeys{"position", "look_at", "up",    "matrix",
                                                       "fov",      "fov_axis", "width", "height"};
 constexpr std::array<std::string_view, 3> kRenderKeys{"spp", "depth", "seed"};
@@ -405,8 +414,32 @@ constexpr std::array<std::string_view, kMaterialKindCount> kMaterialTypes{
     WP_MATERIAL_KINDS(WP_KIND_NAME_)
 #undef WP_KIND_NAME_
 };
-constexpr std::array<std::string_view, 6> kAllMaterialKeys{"type",      "reflectance", "emission",
-                                                           "roughness", "exponent",    "ior"};
+// Texture references (docs/scene-format.md): a file name or an object of these keys.
+constexpr std::array<std::string_view, 6> kTextureKeys{"file",   "checkerboard", "scale",
+                                                       "offset", "rotation",     "filter"};
+constexpr std::array<std::string_view, 4> kEnvironmentKeys{"file", "scale", "rotation", "rotate_y"};
+
+// The texture slots of a material, by key.
+enum class TexSlot { Albedo, Roughness, Emission, Normal, Alpha };
+struct TexSlotKey {
+    std::string_view key;
+    TexSlot slot;
+};
+constexpr TexSlotKey kTexSlots[] = {{"albedo_texture", TexSlot::Albedo},
+                                    {"roughness_texture", TexSlot::Roughness},
+                                    {"emission_texture", TexSlot::Emission},
+                                    {"normal_map", TexSlot::Normal},
+                                    {"alpha_texture", TexSlot::Alpha}};
+
+// A texture reference as read (and checked); it becomes an image of the Scene only when a
+// shape uses its material.
+struct TexSpec {
+    TexSlot slot;
+    std::string file;            // relative to the scene file's folder; empty: checkerboard
+    glm::vec3 color0{0.0f}, color1{0.0f};  // checkerboard colours
+    glm::mat3 uv{1.0f};          // T(offset) · R(rotation) · S(scale), as KHR_texture_transform
+    bool nearest = false;
+};
 constexpr std::array<std::string_view, 5> kShapeTypes{"mesh", "quad", "box", "sphere", "stress"};
 constexpr std::array<std::string_view, 4> kTransformKeys{"matrix", "scale", "rotate", "translate"};
 constexpr std::array<std::string_view, 2> kRotateKeys{"axis", "degrees"};
@@ -414,6 +447,7 @@ constexpr std::array<std::string_view, 2> kRotateKeys{"axis", "degrees"};
 struct MaterialEntry {
     std::string name;
     Material material;
+    std::vector<TexSpec> textures;    // its texture slots, resolved when a shape uses it
     Path path;
     bool used = false;                // some shape names it
     std::optional<std::uint32_t> id;  // scene id, when used
@@ -581,7 +615,14 @@ private:
     // --- parts of the scene -------------------------------------------------------------
     void read_render(const Json& v, const Path& p, Scene& s) const;
     void read_materials(const Json& root);
-    Material read_material(const Json& v, const Path& p) const;
+    Material read_material(const Json& v, const Path& p, std::vector<TexSpec>& textures) const;
+    TexSpec read_texture(const Json& v, const Path& p, TexSlot slot) const;
+    TextureRef use_texture(const TexSpec& t, Scene& s) const;
+    void read_environment(const Json& v, const Path& p, Scene& s) const;
+    fs::path file_path(const std::string& name) const {
+        const fs::path rel(name);
+        return rel.is_absolute() ? rel : dir_ / rel;
+    }
     glm::mat4 read_transform(const Json& v, const Path& p) const;
     glm::mat4 read_transform_op(const std::string& key, const Json& v, const Path& p) const;
     void read_shape(const Json& v, const Path& p, Scene& s);
@@ -677,6 +718,16 @@ Scene Reader::read() {
         if (e.used) {
             Material m = e.material;
             m.name = e.name;
+            for (const TexSpec& t : e.textures) {
+                const TextureRef r = use_texture(t, s);
+                switch (t.slot) {
+                case TexSlot::Albedo: m.albedo_map = r; break;
+                case TexSlot::Roughness: m.roughness_map = r; break;
+                case TexSlot::Emission: m.emission_map = r; break;
+                case TexSlot::Normal: m.normal_map = r; break;
+                case TexSlot::Alpha: m.alpha_map = r; break;
+                }
+            }
             e.id = s.add_material(m);
         }
     for (std::size_t i = 0; i < shapes->size(); ++i) read_shape((*shapes)[i], sp.index(i), s);
@@ -685,6 +736,7 @@ Scene Reader::read() {
     if (const Json* v = find(root, "background"))
         s.background = color(*v, top.key("background"), 0.0f, kNoMax);
     if (const Json* v = find(root, "render")) read_render(*v, top.key("render"), s);
+    if (const Json* v = find(root, "environment")) read_environment(*v, top.key("environment"), s);
     read_camera(find(root, "camera"), top.key("camera"), s);
 
     // 5. Warnings: unused materials (no light at all: the command line's one warning,
@@ -761,11 +813,13 @@ void Reader::read_materials(const Json& root) {
     for (const std::string& name : order) {
         const Path mp = p.key(name);
         if (name.empty()) error_at_key(mp, "a material name must not be empty");
-        materials_.push_back({name, read_material(mats->at(name), mp), mp, false, std::nullopt});
+        std::vector<TexSpec> textures;
+        Material m = read_material(mats->at(name), mp, textures);
+        materials_.push_back({name, m, std::move(textures), mp, false, std::nullopt});
     }
 }
 
-Material Reader::read_material(const Json& v, const Path& p) const {
+Material Reader::read_material(const Json& v, const Path& p, std::vector<TexSpec>& textures) const {
     expect_object(v, p, "a material");
     const Json* t = find(v, "type");
     if (!t) error(p, "a material needs a \"type\": one of {}", join(kMaterialTypes));
@@ -777,14 +831,16 @@ Material Reader::read_material(const Json& v, const Path& p) const {
     }
     Material m;
     m.kind = *material_kind_from_string(type);
-    // The parameters of the kind (material_kinds.h columns ALPHA and IOR).
+    // The parameters of the kind (material_kinds.h columns ALPHA and IOR), then the textures.
     std::vector<std::string_view> allowed{"type", "reflectance", "emission"};
-    if (uses_alpha(m.kind)) allowed.insert(allowed.end(), {"roughness", "exponent"});
+    if (uses_alpha(m.kind)) allowed.insert(allowed.end(), {"roughness", "exponent", "roughness_texture"});
     if (uses_ior(m.kind)) allowed.push_back("ior");
+    allowed.insert(allowed.end(), {"albedo_texture", "emission_texture", "normal_map",
+                                   "normal_scale", "alpha_texture", "alpha_cutoff"});
     for (auto it = v.begin(); it != v.end(); ++it) {
         const std::string& k = it.key();
         if (std::find(allowed.begin(), allowed.end(), k) != allowed.end()) continue;
-        if (k == "roughness" || k == "exponent" || k == "ior") {
+        if (k == "roughness" || k == "exponent" || k == "ior" || k == "roughness_texture") {
             std::vector<std::string_view> owners;  // the kinds that take k
             for (int i = 0; i < kMaterialKindCount; ++i)
                 if (k == "ior" ? uses_ior(MaterialKind(i)) : uses_alpha(MaterialKind(i)))
@@ -797,10 +853,24 @@ Material Reader::read_material(const Json& v, const Path& p) const {
         check_keys(v, p, allowed, fmt::format("a {} material", type));
     }
 
-    // Specular kinds (mirror, glass) tint; the others reflect 0.8 by default.
+    // Textures (each multiplies its constant, whose default becomes 1)
+    for (const TexSlotKey& slot : kTexSlots)
+        if (const Json* x = find(v, slot.key))
+            textures.push_back(read_texture(*x, p.key(slot.key), slot.slot));
+    auto has = [&](std::string_view k) { return find(v, k) != nullptr; };
+    if (has("normal_scale") && !has("normal_map"))
+        error_at_key(p.key("normal_scale"), "\"normal_scale\" needs a \"normal_map\"");
+    if (has("alpha_cutoff") && !has("alpha_texture"))
+        error_at_key(p.key("alpha_cutoff"), "\"alpha_cutoff\" needs an \"alpha_texture\"");
+    if (const Json* x = find(v, "normal_scale")) m.normal_scale = real(*x, p.key("normal_scale"));
+    if (const Json* x = find(v, "alpha_cutoff"))
+        m.alpha_cutoff = real_in(*x, p.key("alpha_cutoff"), 0.0, 1.0, false, false);
+
+    // Specular kinds (mirror, glass) tint; the others reflect 0.8 by default (1 with a texture).
     const bool tint = is_specular(m.kind);
-    m.albedo = glm::vec3(tint ? 1.0f : 0.8f);
+    m.albedo = glm::vec3(tint || has("albedo_texture") ? 1.0f : 0.8f);
     if (const Json* x = find(v, "reflectance")) m.albedo = color(*x, p.key("reflectance"), 0.0f, 1.0f);
+    if (has("emission_texture")) m.emission = glm::vec3(1.0f);
     if (const Json* x = find(v, "emission")) m.emission = color(*x, p.key("emission"), 0.0f, kNoMax);
     if (uses_alpha(m.kind)) {
         const Json* r = find(v, "roughness");
@@ -808,6 +878,7 @@ Material Reader::read_material(const Json& v, const Path& p) const {
         if (r && e)
             error_at_key(p.key("exponent"),
                          "give either \"roughness\" (GGX alpha) or \"exponent\", not both");
+        if (has("roughness_texture")) m.alpha = 1.0f;  // alpha = G² of the texture
         if (r) {
             const double a = real_in(*r, p.key("roughness"), 1e-4, 1.0, false, false);
             m.alpha = static_cast<float>(a);
@@ -817,6 +888,141 @@ Material Reader::read_material(const Json& v, const Path& p) const {
     if (uses_ior(m.kind))
         if (const Json* x = find(v, "ior")) m.ior = real_in(*x, p.key("ior"), 0.0, 10.0, true, false);
     return m;
+}
+
+// A texture reference: "file.png", {"file": ..., "scale", "offset", "rotation", "filter"} or
+// {"checkerboard": [c0, c1], "scale", "offset", "rotation"}. Checked here; the image is read
+// only when a shape uses the material (use_texture).
+TexSpec Reader::read_texture(const Json& v, const Path& p, TexSlot slot) const {
+    TexSpec t;
+    t.slot = slot;
+    auto file_name = [&](const Json& f, const Path& fp) {
+        std::string name = string(f, fp);
+        if (name.empty() || name.find('\0') != std::string::npos)
+            error(fp, "expected a file name, got \"{}\"", printable(name));
+        return name;
+    };
+    if (v.is_string()) {
+        t.file = file_name(v, p);
+        return t;
+    }
+    if (!v.is_object())
+        error(p, "expected a texture: a file name, {{\"file\": ...}} or {{\"checkerboard\": "
+                 "[c0, c1]}}, got {}",
+              describe(v));
+    check_keys(v, p, kTextureKeys, "a texture");
+    const Json* f = find(v, "file");
+    const Json* c = find(v, "checkerboard");
+    if (f && c) error_at_key(p.key("checkerboard"), "give either \"file\" or \"checkerboard\", not both");
+    if (!f && !c) error(p, "a texture needs \"file\" (an image) or \"checkerboard\" ([c0, c1])");
+    if (f) {
+        t.file = file_name(*f, p.key("file"));
+    } else {
+        const Path cp = p.key("checkerboard");
+        if (!c->is_array() || c->size() != 2)
+            error(cp, "expected two colours [c0, c1] (each a number or [r, g, b]), got {}",
+                  describe(*c));
+        // Emission takes any radiance >= 0; the other slots values in [0, 1]
+        const float hi = slot == TexSlot::Emission ? float(kNoMax) : 1.0f;
+        t.color0 = color((*c)[0], cp.index(0), 0.0f, hi);
+        t.color1 = color((*c)[1], cp.index(1), 0.0f, hi);
+        t.nearest = true;
+    }
+    if (const Json* x = find(v, "filter")) {
+        const Path fp = p.key("filter");
+        if (c) error_at_key(fp, "a checkerboard is always nearest; \"filter\" applies to an image \"file\"");
+        const std::string filter = string(*x, fp);
+        if (filter != "bilinear" && filter != "nearest")
+            error(fp, "expected \"bilinear\" or \"nearest\", got \"{}\"", printable(filter));
+        t.nearest = filter == "nearest";
+    }
+    // uv' = T(offset) · R(rotation) · S(scale) · uv (KHR_texture_transform's order and
+    // rotation: counter-clockwise in uv space, u' = cos u + sin v, v' = -sin u + cos v)
+    glm::vec2 scale(1.0f), offset(0.0f);
+    float degrees = 0.0f;
+    if (const Json* x = find(v, "scale")) {
+        const Path sp = p.key("scale");
+        if (x->is_number()) {
+            scale = glm::vec2(real(*x, sp));
+        } else {
+            if (!x->is_array() || x->size() != 2)
+                error(sp, "expected a number or [su, sv], got {}", describe(*x));
+            scale = {real((*x)[0], sp.index(0)), real((*x)[1], sp.index(1))};
+        }
+        if (scale.x == 0.0f || scale.y == 0.0f) error(sp, "a texture scale must not be 0");
+    }
+    if (const Json* x = find(v, "offset")) {
+        const Path op = p.key("offset");
+        if (!x->is_array() || x->size() != 2) error(op, "expected [ou, ov], got {}", describe(*x));
+        offset = {real((*x)[0], op.index(0)), real((*x)[1], op.index(1))};
+    }
+    if (const Json* x = find(v, "rotation")) degrees = real(*x, p.key("rotation"));
+    const double r = double(degrees) * 3.14159265358979323846 / 180.0;
+    const float cs = float(std::cos(r)), sn = float(std::sin(r));
+    glm::mat3 m(1.0f);  // [column][row]
+    m[0][0] = cs * scale.x;
+    m[0][1] = -sn * scale.x;
+    m[1][0] = sn * scale.y;
+    m[1][1] = cs * scale.y;
+    m[2][0] = offset.x;
+    m[2][1] = offset.y;
+    t.uv = m;
+    return t;
+}
+
+// The image of a texture reference, added to the scene: a file (colours are sRGB-encoded
+// unless the file is float; roughness, normal and alpha maps are data), or a 2 x 2 nearest
+// checkerboard (for an alpha texture its coverage is the colours' first component). A
+// missing file is a warning and a placeholder (scene/texture.h).
+TextureRef Reader::use_texture(const TexSpec& t, Scene& s) const {
+    int image;
+    if (t.file.empty()) {
+        Texture c = checkerboard_texture(t.color0, t.color1, fmt::format("checkerboard in {}", file_));
+        if (t.slot == TexSlot::Alpha) {
+            for (std::size_t i = 0; i < std::size_t(c.width) * std::size_t(c.height); ++i) {
+                if (c.is_float())
+                    c.texelsf[i * 4 + 3] = c.texelsf[i * 4];
+                else
+                    c.texels8[i * 4 + 3] = c.texels8[i * 4];
+            }
+        }
+        s.textures.push_back(std::move(c));
+        image = int(s.textures.size() - 1);
+    } else {
+        const bool colour = t.slot == TexSlot::Albedo || t.slot == TexSlot::Emission;
+        image = add_texture_file(s, file_path(t.file), colour ? TextureUse::Colour : TextureUse::Data);
+        if (t.nearest) s.textures[std::size_t(image)].nearest = true;
+    }
+    return TextureRef{image, t.uv};
+}
+
+// "environment": {"file", "scale", "rotation": [rx, ry, rz] degrees (x first, then y, then z)
+// or "rotate_y": degrees}: the equirectangular map (scene/scene.h Environment).
+void Reader::read_environment(const Json& v, const Path& p, Scene& s) const {
+    expect_object(v, p, "an environment {\"file\": ..., \"scale\": ..., \"rotate_y\": ...}");
+    check_keys(v, p, kEnvironmentKeys, "the environment");
+    const Json* f = find(v, "file");
+    if (!f) error(p, "an environment needs a \"file\" (an equirectangular image, e.g. .exr or .hdr)");
+    const std::string name = string(*f, p.key("file"));
+    if (name.empty() || name.find('\0') != std::string::npos)
+        error(p.key("file"), "expected a file name, got \"{}\"", printable(name));
+    Environment env;
+    if (const Json* x = find(v, "scale")) env.scale = real_in(*x, p.key("scale"), 0.0, kNoMax, false, false);
+    const Json* rot = find(v, "rotation");
+    const Json* ry = find(v, "rotate_y");
+    if (rot && ry) error_at_key(p.key("rotate_y"), "give either \"rotation\" or \"rotate_y\", not both");
+    glm::mat4 r(1.0f);
+    if (rot) {
+        const glm::vec3 d = vec3(*rot, p.key("rotation"));
+        r = glm::rotate(glm::mat4(1.0f), glm::radians(d.z), glm::vec3(0, 0, 1)) *
+            glm::rotate(glm::mat4(1.0f), glm::radians(d.y), glm::vec3(0, 1, 0)) *
+            glm::rotate(glm::mat4(1.0f), glm::radians(d.x), glm::vec3(1, 0, 0));
+    } else if (ry) {
+        r = glm::rotate(glm::mat4(1.0f), glm::radians(real(*ry, p.key("rotate_y"))), glm::vec3(0, 1, 0));
+    }
+    env.to_world = glm::mat3(r);
+    env.image = add_texture_file(s, file_path(name), TextureUse::Colour);
+    s.environment = env;
 }
 
 glm::mat4 Reader::read_transform_op(const std::string& key, const Json& v, const Path& p) const {
@@ -910,13 +1116,40 @@ void Reader::reserve_triangles(double n, const Path& p, std::string_view what) {
     triangles_ += std::size_t(n);
 }
 
+// A box of make_box with a texture on each face: every face gets its own vertices (the
+// texture is cut at the edges) with uv (s, 1 - t) along the face's grid axes (make_box's u, v:
+// cross(u, v) outward), the whole image on each face.
+void box_uvs(Mesh& mesh, glm::vec3 lo, glm::vec3 hi, int n, std::vector<glm::vec2>& uvs) {
+    const std::size_t per_face = 2 * std::size_t(n) * std::size_t(n);
+    std::vector<glm::vec3> pos;
+    std::map<std::pair<std::size_t, std::uint32_t>, std::uint32_t> index;  // (face, vertex)
+    for (std::size_t i = 0; i < mesh.triangles.size(); ++i) {
+        const std::size_t face = i / per_face;
+        const int a = int(face / 2), side = int(face % 2);
+        int u = (a + 1) % 3, v = (a + 2) % 3;
+        if (side == 0) std::swap(u, v);
+        for (int k = 0; k < 3; ++k) {
+            const std::uint32_t old = mesh.triangles[i][k];
+            auto [it, fresh] = index.try_emplace({face, old}, std::uint32_t(pos.size()));
+            if (fresh) {
+                const glm::vec3 q = mesh.positions[old];
+                pos.push_back(q);
+                uvs.emplace_back((q[u] - lo[u]) / (hi[u] - lo[u]),
+                                 1.0f - (q[v] - lo[v]) / (hi[v] - lo[v]));
+            }
+            mesh.triangles[i][k] = it->second;
+        }
+    }
+    mesh.positions = std::move(pos);
+}
+
 void Reader::read_shape(const Json& v, const Path& p, Scene& s) {
     expect_object(v, p, "a shape");
     const Json* t = find(v, "type");
     if (!t) error(p, "a shape needs a \"type\": one of {}", join(kShapeTypes));
     const std::string type = string(*t, p.key("type"));
     static const std::map<std::string, std::vector<std::string_view>> kKeys{
-        {"mesh", {"file"}},
+        {"mesh", {"file", "smooth"}},
         {"quad", {"corner", "edge_u", "edge_v", "size", "subdivisions"}},
         {"box", {"min", "max", "center", "size", "subdivisions"}},
         {"sphere", {"center", "radius", "rings", "segments"}},
@@ -952,6 +1185,10 @@ void Reader::read_shape(const Json& v, const Path& p, Scene& s) {
         const std::string name = string(*f, fp);
         if (name.empty() || name.find('\0') != std::string::npos)
             error(fp, "expected a file name, got \"{}\"", printable(name));
+        std::optional<float> crease;  // "smooth": computed normals, this crease angle
+        if (const Json* x = get("smooth"))
+            crease = real_in(*x, p.key("smooth"), 0.0, limits::kMaxCreaseDeg, false, false,
+                             "degrees");
         const fs::path rel(name);
         const fs::path full = rel.is_absolute() ? rel : dir_ / rel;
         std::error_code ec;
@@ -971,9 +1208,15 @@ void Reader::read_shape(const Json& v, const Path& p, Scene& s) {
         reserve_triangles(double(mesh.triangles.size()), fp, "mesh file");
         std::optional<std::uint32_t> id;
         if (const Json* m = get("material")) id = use_material(*m, p.key("material"));
-        const std::size_t first = s.positions.size();
+        // A named material without textures needs no texture coordinates
+        if (id && !s.materials[*id].textured()) {
+            mesh.uvs.clear();
+            mesh.tangents.clear();
+        }
+        const std::size_t first = s.positions.size(), first_triangle = s.triangles.size();
         s.append(mesh, to_world.value_or(glm::mat4(1.0f)), id);
         check_finite(s.positions, first, p);
+        if (crease) smooth_normals(s, *crease, first_triangle);
         return;
     }
 
@@ -981,6 +1224,9 @@ void Reader::read_shape(const Json& v, const Path& p, Scene& s) {
     const Json* mat = get("material");
     if (!mat) error(p, "a {} needs a \"material\" (a name from \"materials\")", type);
     const std::uint32_t id = use_material(*mat, p.key("material"));
+    const bool textured = s.materials[id].textured();
+    std::vector<glm::vec3> normals;  // the sphere's (analytic); flat shapes have none
+    std::vector<glm::vec2> uvs;      // only for a textured material
     auto count = [&](std::string_view k, long long lo, long long hi, long long dflt) {
         const Json* x = get(k);
         return x ? int(integer(*x, p.key(k), lo, hi)) : int(dflt);
@@ -1037,6 +1283,11 @@ void Reader::read_shape(const Json& v, const Path& p, Scene& s) {
         }
         reserve_triangles(2.0 * nu * nv, p, "quad");
         mesh = make_quad(corner, eu, ev, nu, nv);
+        // uv (s, 1 - t) at corner + s edge_u + t edge_v: upright when edge_v points up
+        if (textured)
+            for (int j = 0; j <= nv; ++j)
+                for (int i = 0; i <= nu; ++i)
+                    uvs.emplace_back(float(i) / float(nu), 1.0f - float(j) / float(nv));
     } else if (type == "box") {
         const Json *lo = get("min"), *hi = get("max"), *sz = get("size"), *c = get("center");
         glm::vec3 a, b;
@@ -1071,6 +1322,7 @@ void Reader::read_shape(const Json& v, const Path& p, Scene& s) {
         const int n = count("subdivisions", 1, 1024, 1);
         reserve_triangles(12.0 * n * n, p, "box");
         mesh = make_box(a, b, n);
+        if (textured) box_uvs(mesh, a, b, n, uvs);
     } else if (type == "sphere") {
         const glm::vec3 c = get("center") ? vec3(*get("center"), p.key("center")) : glm::vec3(0.0f);
         const float r = get("radius") ? real_in(*get("radius"), p.key("radius"), 0.0, kNoMax, true, false)
@@ -1079,6 +1331,21 @@ void Reader::read_shape(const Json& v, const Path& p, Scene& s) {
         const int segments = count("segments", 3, 8192, 64);
         reserve_triangles(2.0 * segments * (rings - 1), p, "sphere");
         mesh = make_uv_sphere(c, r, rings, segments);
+        // Smooth: the normal is the direction from the centre. uv = (phi / 2 pi, theta / pi):
+        // phi around +y from +z towards +x, theta from the +y pole (v = 0 at the top).
+        normals = sphere_normals(mesh.positions, c);  // as the built-in box's sphere
+        if (textured)
+            wrap_uvs(
+                mesh.positions, mesh.triangles, normals, uvs,
+                [c](glm::vec3 q) {
+                    const glm::dvec3 d = glm::dvec3(q) - glm::dvec3(c);
+                    double phi = std::atan2(d.x, d.z);
+                    if (phi < 0.0) phi += 2.0 * 3.14159265358979323846;
+                    const double theta = std::acos(std::clamp(d.y / glm::length(d), -1.0, 1.0));
+                    return glm::vec2(float(phi / (2.0 * 3.14159265358979323846)),
+                                     float(theta / 3.14159265358979323846));
+                },
+                [c](glm::vec3 q) { return q.x - c.x == 0.0f && q.z - c.z == 0.0f; });
     } else {  // stress
         const int target =
             count("triangles", 48, static_cast<long long>(kJsonSceneMaxTriangles), 250000);
@@ -1087,9 +1354,13 @@ void Reader::read_shape(const Json& v, const Path& p, Scene& s) {
         if (mesh.triangles.size() > std::size_t(target))
             reserve_triangles(double(mesh.triangles.size() - std::size_t(target)), p, "stress mesh");
     }
-    if (to_world) mesh = transform(mesh, *to_world);
+    if (to_world) {
+        mesh = transform(mesh, *to_world);
+        const glm::mat3 nm = glm::transpose(glm::inverse(glm::mat3(*to_world)));
+        for (auto& n : normals) n = glm::normalize(nm * n);
+    }
     check_finite(mesh.positions, 0, p);
-    s.add_mesh(mesh.positions, mesh.triangles, id);
+    s.add_mesh(mesh.positions, mesh.triangles, id, normals, uvs);
 }
 
 void Reader::read_camera(const Json* v, const Path& p, Scene& s) const {

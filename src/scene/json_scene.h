@@ -17,6 +17,9 @@
 //     "width", "height"       film in pixels, 1..16384 each, at most 2^28 pixels  [800, 600]
 //                             (util/limits.h, as the command line)
 //   "background"  radiance of rays that leave the scene: a number (grey) or [r, g, b], >= 0  [0]
+//   "environment" optional: {"file": an equirectangular image relative to the scene file,
+//                 "scale": >= 0 [1], "rotation": [rx, ry, rz] degrees (x first, then y, then
+//                 z) or "rotate_y": degrees} → Scene::environment
 //   "render"      optional defaults that --spp, --depth and --seed on the command line beat:
 //     "spp" 1..2^24, "depth" (bounces, as --depth) 0..2^20, "seed" 0..2^32-1 (util/limits.h)
 //   "materials"   object: name → material
@@ -29,6 +32,18 @@
 //     "exponent"      glossy: a Phong exponent e >= 0 instead, alpha = sqrt(2 / (e + 2))
 //                     [100, alpha ≈ 0.14]
 //     "ior"           glass: index of refraction inside / outside, in (0, 10]   [1.5]
+//     "albedo_texture", "roughness_texture" (kinds with roughness), "emission_texture",
+//     "normal_map", "alpha_texture": a texture, each multiplying its constant (reflectance,
+//                     roughness: alpha × G², emission; whose default becomes 1 with a
+//                     texture): a file name relative to the scene file, or {"file": ...,
+//                     "scale": s or [su, sv], "offset": [ou, ov], "rotation": degrees,
+//                     "filter": "bilinear" | "nearest"}, or {"checkerboard": [c0, c1], and the
+//                     same transform keys} (a 2 x 2 nearest image; for alpha, the colours'
+//                     first component is the coverage). uv' = T(offset) R(rotation) S(scale) uv
+//                     (KHR_texture_transform). Albedo and emission files are colour (sRGB for
+//                     8-bit), the others data; a missing file warns (placeholder image)
+//     "normal_scale"  with normal_map: the map's xy scale   [1]
+//     "alpha_cutoff"  with alpha_texture: coverage below it is not there, [0, 1]   [0.5]
 //   "shapes"      array (required, non-empty); each an object with
 //     "type"          "mesh" | "quad" | "box" | "sphere" | "stress"
 //     "material"      a name from "materials"; required except for "mesh", whose default is
@@ -36,14 +51,20 @@
 //     "transform"     optional, below
 //   and by type:
 //     mesh:   "file"  .obj/.gltf/.glb/.ply/... (scene/load.h: load_mesh_file), relative to
-//                     the scene file's folder
+//                     the scene file's folder; "smooth": crease angle in [0, 180] degrees:
+//                     computed smooth normals (scene/normals.h) for its triangles without any
 //     quad:   "corner", "edge_u", "edge_v" ([x, y, z] each; normal cross(edge_u, edge_v)),
 //             or "size" (number or [w, h]: the quad [-w/2, w/2] x [-h/2, h/2] at z = 0,
 //             facing +z); "subdivisions" n or [nu, nv], 1..4096  [1]
 //     box:    "min" and "max" ([x, y, z], min < max), or "size" (number or [x, y, z] > 0)
 //             with "center" ([0, 0, 0]); "subdivisions" per face edge 1..1024  [1]
 //     sphere: "center" [[0, 0, 0]], "radius" > 0 [1], "rings" 2..4096 [32],
-//             "segments" 3..8192 [64]  (UV sphere, 2 segments (rings - 1) triangles)
+//             "segments" 3..8192 [64]  (UV sphere, 2 segments (rings - 1) triangles), smooth
+//             normals (p - c) / r
+//   Shapes whose material has a texture get uvs (others none): quad (s, 1 - t) at corner +
+//   s edge_u + t edge_v (upright when edge_v points up); box: each face the whole image
+//   along make_box's face axes; sphere: (phi / 2 pi, theta / pi), phi about +y from +z
+//   towards +x, theta from +y. A mesh with a named, untextured material drops its uvs.
 //     stress: "triangles" 48..2^24 [250000]: make_stress_mesh, the BVH benchmark's torus knot
 //   transform: an object {"matrix": M} or {"scale", "rotate", "translate"} (any subset,
 //     applied scale first, then rotate, then translate), or an array of one-key objects

@@ -16,7 +16,10 @@
 #include <pugixml.hpp>
 
 #include "scene/load.h"
+#include "scene/normals.h"
 #include "scene/procedural.h"
+#include "scene/shape_uv.h"
+#include "scene/texture.h"
 #include "scene/validate.h"
 #include "util/error.h"
 #include "util/limits.h"
@@ -155,11 +158,78 @@ const Metal kMetals[] = {
     {"W", {4.3707030f, 3.3002972f, 2.9982667f}, {3.5006779f, 2.6048653f, 2.2731931f}},
 };
 
+// --- Texels ---------------------------------------------------------------------------------
+
+float srgb_to_linear(float c) {
+    return c <= 0.04045f ? c / 12.92f : std::pow((c + 0.055f) / 1.055f, 2.4f);
+}
+
+// Channel c (0..3) of texel i as a linear value (8-bit sRGB colour channels decoded).
+float texel(const Texture& t, std::size_t i, int c) {
+    if (t.is_float()) return t.texelsf[i * 4 + std::size_t(c)];
+    const float v = float(t.texels8[i * 4 + std::size_t(c)]) / 255.0f;
+    return t.srgb && c < 3 ? srgb_to_linear(v) : v;
+}
+
+// Mitsuba's luminance of linear RGB: what a colour texture gives where a BSDF asks for one
+// number (eval_1: roughness, opacity). The weights sum to 1, so a grey texture gives its grey.
+float luminance(glm::vec3 c) { return 0.212671f * c.x + 0.715160f * c.y + 0.072169f * c.z; }
+
+float texel_luminance(const Texture& t, std::size_t i) {
+    return luminance({texel(t, i, 0), texel(t, i, 1), texel(t, i, 2)});
+}
+
+// Mitsuba's to_uv, a 4x4 transform of which a texture uses the 3x3 affine map of (u, v):
+// the x and y rows and columns and the translation (the z row and column are dropped).
+glm::mat3 uv_matrix(const glm::dmat4& m) {
+    glm::mat3 r(1.0f);  // [column][row]
+    r[0][0] = float(m[0][0]);
+    r[0][1] = float(m[0][1]);
+    r[1][0] = float(m[1][0]);
+    r[1][1] = float(m[1][1]);
+    r[2][0] = float(m[3][0]);
+    r[2][1] = float(m[3][1]);
+    return r;
+}
+
+// Mitsuba's coordinate_system(n) (Duff et al. 2017, "Building an Orthonormal Basis,
+// Revisited"): the frame its cylinder is built in, so that u = phi / 2 pi starts where
+// Mitsuba's does.
+std::pair<glm::dvec3, glm::dvec3> coordinate_system(glm::dvec3 n) {
+    const double sign = std::copysign(1.0, n.z);
+    const double a = -1.0 / (sign + n.z), b = n.x * n.y * a;
+    return {glm::dvec3(1.0 + sign * n.x * n.x * a, sign * b, -sign * n.x),
+            glm::dvec3(b, sign + n.y * n.y * a, -n.y)};
+}
+
 // Normal-incidence Fresnel reflectance of a conductor, per channel.
 glm::vec3 fresnel_f0(glm::vec3 eta, glm::vec3 k) {
     glm::vec3 a = (eta - 1.0f) * (eta - 1.0f) + k * k;
     glm::vec3 b = (eta + 1.0f) * (eta + 1.0f) + k * k;
     return a / b;
+}
+
+// Drops the images no material and no environment uses (the sources of derived roughness and
+// opacity maps, textures of BSDFs no shape uses), renumbering the references.
+void prune_textures(Scene& s) {
+    std::vector<TextureRef*> refs;
+    for (Material& m : s.materials)
+        for (TextureRef* r :
+             {&m.albedo_map, &m.roughness_map, &m.emission_map, &m.normal_map, &m.alpha_map})
+            if (r->used()) refs.push_back(r);
+    std::vector<int> index(s.textures.size(), -1);
+    for (TextureRef* r : refs) index[std::size_t(r->image)] = 0;
+    if (s.environment && s.environment->image >= 0) index[std::size_t(s.environment->image)] = 0;
+    std::vector<Texture> kept;
+    for (std::size_t i = 0; i < s.textures.size(); ++i)
+        if (index[i] == 0) {
+            index[i] = int(kept.size());
+            kept.push_back(std::move(s.textures[i]));
+        }
+    for (TextureRef* r : refs) r->image = index[std::size_t(r->image)];
+    if (s.environment && s.environment->image >= 0)
+        s.environment->image = index[std::size_t(s.environment->image)];
+    s.textures = std::move(kept);
 }
 
 // --- The reader -----------------------------------------------------------------------------
@@ -173,6 +243,25 @@ struct Obj {
     std::string tag, type;
     std::vector<std::pair<std::string, Item>> props; // property elements by name
     std::vector<Item> nested;                        // nested objects and refs
+};
+
+// A <texture> as wavepath uses it (scene/texture.h): an image in Scene::textures with the uv
+// map, or, for the types wavepath does not model, a constant stand-in.
+struct TexInfo {
+    TextureRef ref;            // !ref.used(): not representable; `mean` stands in
+    glm::vec3 mean{0.5f};      // the constant stand-in (checkerboard: the mean of its colours)
+    bool missing = false;      // a bitmap whose file did not load (a placeholder image)
+    bool checker = false;      // a checkerboard of color0, color1
+    glm::vec3 color0{0.4f}, color1{0.2f};
+    bool raw = false;          // bitmap raw = true: data, no sRGB decoding
+};
+
+// A shape's geometry in its own space, before to_world.
+struct ShapeGeometry {
+    std::vector<glm::vec3> positions;
+    std::vector<glm::uvec3> triangles;
+    std::vector<glm::vec3> normals;  // empty, or one shading normal per position
+    std::vector<glm::vec2> uvs;      // empty, or one per position (wavepath's convention)
 };
 
 class Reader {
@@ -215,7 +304,10 @@ class Reader {
     std::map<std::string, NamedBsdf> bsdfs_;
     std::map<std::string, pugi::xml_node> textures_;
     std::optional<std::uint32_t> default_material_;
-    std::map<std::string, Mesh> mesh_cache_;
+    std::map<std::string, Scene> mesh_cache_;
+    std::map<std::ptrdiff_t, TexInfo> texture_cache_;  // <texture> elements by offset
+    std::set<int> placeholders_;                       // images standing in for bad files
+    std::optional<std::string> env_where_;             // the envmap, for a second one's error
 
     bool have_sensor_ = false;
     std::optional<glm::dmat4> camera_to_world_; // set by the sensor
@@ -254,7 +346,15 @@ class Reader {
     std::optional<glm::vec3> get_color(Obj& o, std::string_view name);
     glm::vec3 reflectance(Obj& o, std::string_view name, float def);
     glm::vec3 color_value(pugi::xml_node p);
-    glm::vec3 texture_color(pugi::xml_node t);
+    glm::vec3 texture_color(pugi::xml_node t, std::string_view name);
+    // Textures where a BSDF or emitter takes them (mitsuba_loader.h)
+    TexInfo read_texture(pugi::xml_node t);
+    std::optional<std::pair<TexInfo, pugi::xml_node>> nested_texture(Obj& o, std::string_view name);
+    glm::vec3 reflectance_map(Obj& o, std::string_view name, float def, TextureRef& map);
+    int image_file(const std::string& filename, TextureUse use, bool& missing);
+    void roughness_texture(pugi::xml_node n, const TexInfo& tex, Material& m);
+    double texture_mean(const TexInfo& tex);
+    void opacity(Obj& o, Material& m);
     void mark_used(Obj& o, std::initializer_list<std::string_view> names);
     void finish(Obj& o);
     void skip(Obj& o); // marks everything used (for objects skipped as a whole)
@@ -271,10 +371,12 @@ class Reader {
     Material bsdf_ref(pugi::xml_node ref, const std::string& id);
     void read_shape(pugi::xml_node n);
     void read_emitter(pugi::xml_node n);
-    const Mesh& mesh_file(pugi::xml_node n, const std::string& filename);
-    std::uint32_t shape_material(Obj& o, std::optional<glm::vec3> emission);
-    void add_geometry(pugi::xml_node n, Mesh mesh, const glm::dmat4& m, bool flip,
-                      std::uint32_t material);
+    void read_envmap(Obj& o);
+    const Scene& mesh_file(pugi::xml_node n, const std::string& filename);
+    std::uint32_t shape_material(Obj& o, std::optional<glm::vec3> emission,
+                                 const TextureRef& emission_map);
+    void add_geometry(pugi::xml_node n, ShapeGeometry g, const glm::dmat4& m, bool flip,
+                      std::uint32_t material, bool smooth);
 };
 
 // Line (1-based) and column (1-based, in bytes) of a byte offset.
@@ -576,13 +678,13 @@ std::optional<glm::vec3> Reader::get_color(Obj& o, std::string_view name) {
         if (!nm || expand(item.node, "name", nm.value()) != name) continue;
         item.used = true;
         std::string_view tag = item.node.name();
-        if (tag == "texture") return texture_color(item.node);
+        if (tag == "texture") return texture_color(item.node, name);
         if (tag == "ref") {
             std::string id = required(item.node, "id");
             auto it = textures_.find(id);
             if (it == textures_.end())
                 error(item.node, "no <texture id=\"{}\"> is defined before this point", id);
-            return texture_color(it->second);
+            return texture_color(it->second, name);
         }
         error(item.node, "property '{}' must be a colour or a texture", name);
     }
@@ -638,21 +740,247 @@ glm::vec3 Reader::color_value(pugi::xml_node p) {
     error(p, "value '{}': expected {}", v, tag == "rgb" ? "1 or 3 numbers" : "one number");
 }
 
-glm::vec3 Reader::texture_color(pugi::xml_node t) {
+// A texture where wavepath takes only a constant (eta, k, a constant emitter's radiance, ...):
+// its mean (a checkerboard's) or 0.5, with a warning.
+glm::vec3 Reader::texture_color(pugi::xml_node t, std::string_view name) {
     Obj o = collect(t);
     glm::vec3 c(0.5f);
     if (o.type == "checkerboard") {
         glm::vec3 a = reflectance(o, "color0", 0.4f), b = reflectance(o, "color1", 0.2f);
         c = 0.5f * (a + b);
-        note("texture checkerboard", t,
-             "checkerboard textures are not supported; the mean of color0 and color1 is used");
+    }
+    note(fmt::format("texture for {}", name), t,
+         fmt::format("a texture for '{}' is not supported here (wavepath takes textures for "
+                     "reflectances, roughness, opacity, normal maps and area radiance); {} is "
+                     "used instead",
+                     name, o.type == "checkerboard" ? "the mean of color0 and color1" : "0.5 grey"));
+    skip(o);
+    return c;
+}
+
+// A <texture> that a BSDF or an emitter uses (read once per element: every <ref> to it shares
+// the image). bitmap: its file through scene/texture.h (relative to the XML file; raw = true
+// reads it as data, else as an sRGB-encoded colour), filter_type, wrap_mode (repeat; mirror and
+// clamp warn), to_uv. checkerboard: a 2 x 2 nearest image of color0 (top left, bottom right) and
+// color1, which is Mitsuba's pattern on the unit square, and to_uv. Other types: a warning and
+// a 0.5 grey stand-in.
+TexInfo Reader::read_texture(pugi::xml_node t) {
+    const std::ptrdiff_t key = t.offset_debug();
+    if (auto it = texture_cache_.find(key); it != texture_cache_.end()) return it->second;
+    Obj o = collect(t);
+    TexInfo info;
+    if (o.type == "bitmap") {
+        auto filename = get_string(o, "filename");
+        if (!filename) error(t, "missing <string name=\"filename\" value=\"...\"/>");
+        if (filename->empty()) error(prop(o, "filename", {"string"}, "")->node, "empty filename");
+        info.raw = get_bool(o, "raw").value_or(false);
+        const std::string filter = get_string(o, "filter_type").value_or("bilinear");
+        if (filter != "bilinear" && filter != "nearest")
+            error(prop(o, "filter_type", {"string"}, "")->node,
+                  "filter_type '{}' is not bilinear or nearest", filter);
+        const std::string wrap = get_string(o, "wrap_mode").value_or("repeat");
+        if (wrap != "repeat" && wrap != "mirror" && wrap != "clamp")
+            error(prop(o, "wrap_mode", {"string"}, "")->node,
+                  "wrap_mode '{}' is not repeat, mirror or clamp", wrap);
+        if (wrap != "repeat")
+            note("wrap_mode " + wrap, prop(o, "wrap_mode", {"string"}, "")->node,
+                 fmt::format("wrap_mode '{}' is rendered as 'repeat' (wavepath's textures repeat)",
+                             wrap));
+        const glm::dmat4 to_uv = get_transform(o, "to_uv").value_or(glm::dmat4(1.0));
+        mark_used(o, {"format", "accel"});
+        info.ref.image = image_file(*filename, info.raw ? TextureUse::Data : TextureUse::Colour,
+                                    info.missing);
+        if (filter == "nearest") scene_.textures[std::size_t(info.ref.image)].nearest = true;
+        info.ref.uv_transform = uv_matrix(to_uv);
+    } else if (o.type == "checkerboard") {
+        info.checker = true;
+        info.color0 = get_color(o, "color0").value_or(glm::vec3(0.4f));
+        info.color1 = get_color(o, "color1").value_or(glm::vec3(0.2f));
+        for (glm::vec3 c : {info.color0, info.color1})
+            if (glm::any(glm::lessThan(c, glm::vec3(0.0f))))
+                error(t, "checkerboard colour ({}, {}, {}) must be >= 0", c.x, c.y, c.z);
+        info.mean = 0.5f * (info.color0 + info.color1);
+        const glm::dmat4 to_uv = get_transform(o, "to_uv").value_or(glm::dmat4(1.0));
+        scene_.textures.push_back(
+            checkerboard_texture(info.color0, info.color1, "checkerboard at " + where(t)));
+        info.ref.image = int(scene_.textures.size() - 1);
+        info.ref.uv_transform = uv_matrix(to_uv);
     } else {
         note("texture " + o.type, t,
              fmt::format("textures of type '{}' are not supported; 0.5 grey is used instead",
                          o.type));
+        skip(o);
     }
-    skip(o);
-    return c;
+    finish(o);
+    texture_cache_.emplace(key, info);
+    return info;
+}
+
+// An image file for a texture or the environment, relative to the XML file's folder. A file
+// that is missing or does not decode is a warning and a placeholder image (scene/texture.h):
+// `missing` (told by add_texture_file's warning, given once per file).
+int Reader::image_file(const std::string& filename, TextureUse use, bool& missing) {
+    fs::path p(filename);
+    if (p.is_relative()) p = dir_ / p;
+    const std::size_t warnings = scene_.warnings.size();
+    const int image = add_texture_file(scene_, p, use);
+    for (std::size_t i = warnings; i < scene_.warnings.size(); ++i)
+        if (scene_.warnings[i].find("texture not loaded") != std::string::npos)
+            placeholders_.insert(image);
+    missing = placeholders_.count(image) > 0;
+    return image;
+}
+
+// The texture nested as property `name` (inline, or a <ref name=... id=...> to a top-level
+// <texture>), if any.
+std::optional<std::pair<TexInfo, pugi::xml_node>> Reader::nested_texture(Obj& o,
+                                                                        std::string_view name) {
+    for (auto& item : o.nested) {
+        auto nm = item.node.attribute("name");
+        if (!nm || expand(item.node, "name", nm.value()) != name) continue;
+        std::string_view tag = item.node.name();
+        pugi::xml_node t = item.node;
+        if (tag == "ref") {
+            std::string id = required(item.node, "id");
+            auto it = textures_.find(id);
+            if (it == textures_.end())
+                error(item.node, "no <texture id=\"{}\"> is defined before this point", id);
+            t = it->second;
+        } else if (tag != "texture") {
+            error(item.node, "property '{}' must be a colour or a texture", name);
+        }
+        item.used = true;
+        return std::pair{read_texture(t), item.node};
+    }
+    return std::nullopt;
+}
+
+// A reflectance that may be a texture: a constant in [0, 1] (default `def` grey), or 1 with
+// `map` set to the texture (which then is the reflectance; a checkerboard's colours must lie
+// in [0, 1] too). A texture wavepath does not model gives its constant stand-in.
+glm::vec3 Reader::reflectance_map(Obj& o, std::string_view name, float def, TextureRef& map) {
+    auto tex = nested_texture(o, name);
+    if (!tex) return reflectance(o, name, def);
+    const TexInfo& ti = tex->first;
+    if (ti.checker)
+        for (glm::vec3 c : {ti.color0, ti.color1})
+            if (glm::any(glm::greaterThan(c, glm::vec3(1.0f))))
+                error(tex->second, "{}: checkerboard colour ({}, {}, {}) is outside [0, 1]", name,
+                      c.x, c.y, c.z);
+    if (!ti.ref.used()) return ti.mean;
+    map = ti.ref;
+    return glm::vec3(1.0f);
+}
+
+// The mean of a texture's luminance: a checkerboard's colours, a bitmap's texels; the
+// stand-in of anything else (and of a missing file).
+double Reader::texture_mean(const TexInfo& tex) {
+    if (!tex.ref.used() || tex.missing) return luminance(tex.mean);
+    if (tex.checker) return luminance(tex.mean);
+    const Texture& src = scene_.textures[std::size_t(tex.ref.image)];
+    const std::size_t count = std::size_t(src.width) * std::size_t(src.height);
+    double sum = 0.0;
+    for (std::size_t i = 0; i < count; ++i) sum += texel_luminance(src, i);
+    return count ? sum / double(count) : 0.0;
+}
+
+// roughconductor's alpha as a texture. wavepath's roughness is alpha × G² of its roughness
+// map, so the map is made from the texture's values: G = sqrt(a / a_max) per texel (a: the
+// texel's luminance, Mitsuba's eval_1), alpha = a_max. Exact at the texels; filtering
+// interpolates G instead of a.
+void Reader::roughness_texture(pugi::xml_node n, const TexInfo& tex, Material& m) {
+    if (!tex.ref.used() || tex.missing) {
+        m.alpha = std::clamp(tex.mean.x, 1e-4f, 1.0f);  // the stand-in; a warning was given
+        return;
+    }
+    const Texture& src = scene_.textures[std::size_t(tex.ref.image)];
+    const std::size_t count = std::size_t(src.width) * std::size_t(src.height);
+    std::vector<float> a(count);
+    float amax = 0.0f;
+    bool clamped = false;
+    for (std::size_t i = 0; i < count; ++i) {
+        float v = texel_luminance(src, i);
+        if (!(v >= 0.0f)) error(n, "the alpha texture has a negative or non-finite value {}", v);
+        if (v > 1.0f) v = 1.0f, clamped = true;
+        a[i] = v;
+        amax = std::max(amax, v);
+    }
+    if (clamped) note("alpha > 1", n, "alpha above 1 is clamped to 1");
+    if (amax < 1e-4f) {
+        note("alpha 0", n, "roughconductor with alpha < 1e-4 is rendered as a mirror");
+        m.kind = MaterialKind::Mirror;
+        return;
+    }
+    Texture r;
+    r.source = "alpha of " + src.source;
+    r.width = src.width;
+    r.height = src.height;
+    r.nearest = src.nearest;
+    r.texelsf.reserve(count * 4);
+    for (float v : a) {
+        const float g = std::sqrt(v / amax);
+        r.texelsf.insert(r.texelsf.end(), {g, g, g, 1.0f});
+    }
+    scene_.textures.push_back(std::move(r));
+    m.kind = MaterialKind::Glossy;
+    m.alpha = amax;
+    m.roughness_map = TextureRef{int(scene_.textures.size() - 1), tex.ref.uv_transform};
+}
+
+// The mask BSDF's opacity (default 0.5) as wavepath's alpha cut-out with cutoff 0.5: the
+// opacity (the texture's luminance) is the coverage, the A channel of an alpha map made from
+// it. Mitsuba's mask is stochastic (the surface is there with probability = opacity), so this
+// is exact only where the opacity is 0 or 1; anything else warns once.
+void Reader::opacity(Obj& o, Material& m) {
+    auto tex = nested_texture(o, "opacity");
+    std::optional<float> constant;
+    if (!tex) {
+        constant = luminance(get_color(o, "opacity").value_or(glm::vec3(0.5f)));
+    } else if (!tex->first.ref.used() || tex->first.missing) {
+        constant = luminance(tex->first.mean);
+        if (tex->first.missing) constant = 1.0f;  // a missing mask leaves the surface there
+    }
+    const pugi::xml_node at = tex ? tex->second : o.node;
+    auto approximate = [&] {
+        note("mask opacity", at,
+             "mask opacity between 0 and 1 (stochastic in Mitsuba) is rendered as a cut-out: "
+             "opacity < 0.5 is not there, >= 0.5 is opaque");
+    };
+    Texture a;
+    if (constant) {
+        const float c = *constant;
+        if (!(c >= 0.0f && c <= 1.0f)) error(at, "opacity {} is outside [0, 1]", c);
+        if (c != 0.0f && c != 1.0f) approximate();
+        if (c >= m.alpha_cutoff) return;  // opaque: no cut-out at all
+        a.source = "opacity at " + where(at);
+        a.width = a.height = 1;
+        a.nearest = true;
+        a.texelsf = {c, c, c, c};
+    } else {
+        const Texture& src = scene_.textures[std::size_t(tex->first.ref.image)];
+        const std::size_t count = std::size_t(src.width) * std::size_t(src.height);
+        a.source = "opacity of " + src.source;
+        a.width = src.width;
+        a.height = src.height;
+        a.nearest = src.nearest;
+        a.texelsf.reserve(count * 4);
+        bool binary = true;
+        for (std::size_t i = 0; i < count; ++i) {
+            const float r = texel(src, i, 0), g = texel(src, i, 1), b = texel(src, i, 2);
+            // 0/1 texels are exactly 0/1 (the luminance weights sum to 1 only approximately)
+            const bool zero = r == 0.0f && g == 0.0f && b == 0.0f;
+            const bool one = r == 1.0f && g == 1.0f && b == 1.0f;
+            binary = binary && (zero || one);
+            const float v = zero ? 0.0f : one ? 1.0f : std::clamp(luminance({r, g, b}), 0.0f, 1.0f);
+            a.texelsf.insert(a.texelsf.end(), {v, v, v, v});
+        }
+        if (!binary) approximate();
+    }
+    scene_.textures.push_back(std::move(a));
+    m.alpha_map = TextureRef{int(scene_.textures.size() - 1),
+                             tex ? tex->first.ref.uv_transform : glm::mat3(1.0f)};
+    m.alpha_factor = 1.0f;
+    m.alpha_cutoff = 0.5f;
 }
 
 void Reader::mark_used(Obj& o, std::initializer_list<std::string_view> names) {
@@ -974,7 +1302,7 @@ Material Reader::read_bsdf(pugi::xml_node n, int depth, bool two_sided) {
         m = inner[0];
     } else if (t == "diffuse") {
         m.kind = MaterialKind::Diffuse;
-        m.albedo = reflectance(o, "reflectance", 0.5f);
+        m.albedo = reflectance_map(o, "reflectance", 0.5f, m.albedo_map);
         one_sided();
     } else if (t == "conductor" || t == "roughconductor") {
         glm::vec3 f0(1.0f);
@@ -1000,12 +1328,24 @@ Material Reader::read_bsdf(pugi::xml_node n, int depth, bool two_sided) {
                                  *material));
             }
         }
-        m.albedo = glm::clamp(reflectance(o, "specular_reflectance", 1.0f) * f0, 0.0f, 1.0f);
+        m.albedo = glm::clamp(reflectance_map(o, "specular_reflectance", 1.0f, m.albedo_map) * f0,
+                              0.0f, 1.0f);
         m.kind = MaterialKind::Mirror;
         if (t == "roughconductor") {
             double alpha;
             auto a = get_float(o, "alpha");
             auto au = get_float(o, "alpha_u"), av = get_float(o, "alpha_v");
+            std::optional<std::pair<TexInfo, pugi::xml_node>> alpha_tex;
+            if (!a) alpha_tex = nested_texture(o, "alpha");
+            // Anisotropic roughness as textures: their mean values, with a warning
+            using AlphaSlot = std::pair<const char*, std::optional<double>*>;
+            for (auto [an, value] : {AlphaSlot{"alpha_u", &au}, AlphaSlot{"alpha_v", &av}})
+                if (auto tex = nested_texture(o, an)) {
+                    *value = texture_mean(tex->first);
+                    note("anisotropic texture", tex->second,
+                         "alpha_u/alpha_v textures are not supported; their mean values are used");
+                }
+            if (alpha_tex && (au || av)) error(n, "give either alpha or alpha_u/alpha_v");
             if (au || av) {
                 if (!(au && av)) error(n, "alpha_u and alpha_v must be given together");
                 if (a) error(n, "give either alpha or alpha_u/alpha_v");
@@ -1029,7 +1369,9 @@ Material Reader::read_bsdf(pugi::xml_node n, int depth, bool two_sided) {
                 note("alpha > 1", n, "alpha above 1 is clamped to 1");
                 alpha = 1.0;
             }
-            if (alpha >= 1e-4) {
+            if (alpha_tex) {
+                roughness_texture(alpha_tex->second, alpha_tex->first, m);
+            } else if (alpha >= 1e-4) {
                 m.kind = MaterialKind::Glossy;
                 m.alpha = float(alpha);
             } else {
@@ -1063,7 +1405,7 @@ Material Reader::read_bsdf(pugi::xml_node n, int depth, bool two_sided) {
         if (!(ior >= 0.01 && ior <= 100.0))
             error(n, "int_ior / ext_ior = {} is out of range [0.01, 100]", ior);
         m.ior = float(ior);
-        m.albedo = reflectance(o, "specular_transmittance", 1.0f);
+        m.albedo = reflectance_map(o, "specular_transmittance", 1.0f, m.albedo_map);
         if (auto r = get_color(o, "specular_reflectance"); r && *r != glm::vec3(1.0f))
             note("glass reflectance", n,
                  "dielectric specular_reflectance other than 1 is not supported; ignored");
@@ -1073,7 +1415,7 @@ Material Reader::read_bsdf(pugi::xml_node n, int depth, bool two_sided) {
         mark_used(o, {"alpha", "alpha_u", "alpha_v", "distribution", "sample_visible"});
     } else if (t == "plastic" || t == "roughplastic") {
         m.kind = MaterialKind::Diffuse;
-        m.albedo = reflectance(o, "diffuse_reflectance", 0.5f);
+        m.albedo = reflectance_map(o, "diffuse_reflectance", 0.5f, m.albedo_map);
         note("bsdf " + t, n,
              fmt::format("bsdf '{}' is rendered as diffuse with its diffuse_reflectance (the "
                          "specular coating is dropped)",
@@ -1082,11 +1424,36 @@ Material Reader::read_bsdf(pugi::xml_node n, int depth, bool two_sided) {
         one_sided();
     } else if (t == "principled" || t == "principledthin") {
         m.kind = MaterialKind::Diffuse;
-        m.albedo = reflectance(o, "base_color", 0.5f);
+        m.albedo = reflectance_map(o, "base_color", 0.5f, m.albedo_map);
         note("bsdf " + t, n,
              fmt::format("bsdf '{}' is rendered as diffuse with its base_color", t));
         skip(o);
-    } else if (t == "blendbsdf" || t == "mask" || t == "bumpmap" || t == "normalmap") {
+    } else if (t == "normalmap") {
+        // Its nested BSDF with the texture as the tangent-space normal map (Mitsuba: the map's
+        // x along dp/du, y = n × x; raw = true for linear maps, as Mitsuba's documentation asks)
+        m = nested_bsdfs(1)[0];
+        auto tex = nested_texture(o, "normalmap");
+        if (!tex) {
+            if (prop(o, "normalmap", {"rgb", "spectrum", "float", "integer"}, "a texture"))
+                note("constant normalmap", n,
+                     "a constant normalmap is not supported; the nested BSDF is used unchanged");
+            else
+                error(n, "needs <texture name=\"normalmap\" type=\"bitmap\"> (the normal map)");
+        } else if (tex->first.ref.used() && !tex->first.missing) {
+            if (m.normal_map.used())
+                note("nested normalmap", n,
+                     "normalmap inside normalmap: only the outer normal map is used");
+            m.normal_map = tex->first.ref;
+            m.normal_scale = 1.0f;
+        }
+    } else if (t == "mask") {
+        // Its nested BSDF with an alpha cut-out from the opacity (see opacity())
+        m = nested_bsdfs(1)[0];
+        if (m.alpha_map.used())
+            note("nested mask", n, "mask inside mask: only the outer opacity is used");
+        m.alpha_map = TextureRef{};
+        opacity(o, m);
+    } else if (t == "blendbsdf" || t == "bumpmap") {
         auto inner = nested_bsdfs(1);
         m = inner[0];
         note("bsdf " + t, n,
@@ -1113,7 +1480,7 @@ Material Reader::bsdf_ref(pugi::xml_node ref, const std::string& id) {
     return it->second.material;
 }
 
-const Mesh& Reader::mesh_file(pugi::xml_node n, const std::string& filename) {
+const Scene& Reader::mesh_file(pugi::xml_node n, const std::string& filename) {
     fs::path p(filename);
     if (p.is_relative()) p = dir_ / p;
     std::string key = p.lexically_normal().string();
@@ -1131,13 +1498,18 @@ const Mesh& Reader::mesh_file(pugi::xml_node n, const std::string& filename) {
     // about triangles without a material does not apply.
     for (auto& w : s.warnings)
         if (w.find("have no material") == std::string::npos) scene_.warnings.push_back(w);
-    Mesh m{std::move(s.positions), std::move(s.triangles)};
+    Scene m;  // the geometry and its attributes only
+    m.positions = std::move(s.positions);
+    m.triangles = std::move(s.triangles);
+    m.normals = std::move(s.normals);
+    m.uvs = std::move(s.uvs);
     return mesh_cache_.emplace(key, std::move(m)).first->second;
 }
 
 // The material of a shape: its BSDF (nested or <ref>), else Mitsuba's default diffuse 0.5;
 // with an area emitter, a copy of it that emits.
-std::uint32_t Reader::shape_material(Obj& o, std::optional<glm::vec3> emission) {
+std::uint32_t Reader::shape_material(Obj& o, std::optional<glm::vec3> emission,
+                                     const TextureRef& emission_map) {
     std::optional<Material> mat;
     std::string named; // id of a referenced BSDF
     for (auto& item : o.nested) {
@@ -1170,6 +1542,7 @@ std::uint32_t Reader::shape_material(Obj& o, std::optional<glm::vec3> emission) 
             m.albedo = glm::vec3(0.5f);
         }
         m.emission = *emission;
+        m.emission_map = emission_map;
         m.name = attr(o.node, "id").value_or(fmt::format("emitter {}", emitter_shapes_));
         ++emitter_shapes_;
         return scene_.add_material(m);
@@ -1190,18 +1563,6 @@ std::uint32_t Reader::shape_material(Obj& o, std::optional<glm::vec3> emission) 
     return *default_material_;
 }
 
-void Reader::add_geometry(pugi::xml_node n, Mesh mesh, const glm::dmat4& m, bool flip,
-                          std::uint32_t material) {
-    if (scene_.triangles.size() + mesh.triangles.size() > kMaxTriangles)
-        error(n, "the scene would have more than {} triangles", kMaxTriangles);
-    Mesh t = wp::transform(mesh, glm::mat4(m));
-    if (flip) flip_winding(t);
-    for (const auto& p : t.positions)
-        if (!std::isfinite(p.x) || !std::isfinite(p.y) || !std::isfinite(p.z))
-            error(n, "to_world maps a vertex to a non-finite position");
-    scene_.add_mesh(t.positions, t.triangles, material);
-}
-
 // Unit meshes of the analytic shapes, tessellated once.
 const Mesh& unit_sphere() {
     static const Mesh sphere = [] {
@@ -1219,38 +1580,174 @@ const Mesh& unit_sphere() {
     return sphere;
 }
 
-Mesh unit_disk() {
-    const int n = kRoundSegments;
-    // The regular n-gon of area π: (n/2) r² sin(2π/n) = π
-    const double r = std::sqrt(kPi / (0.5 * n * std::sin(2.0 * kPi / n)));
-    Mesh d;
-    d.positions.push_back(glm::vec3(0.0f));
-    for (int i = 0; i < n; ++i) {
-        double a = 2.0 * kPi * i / n;
-        d.positions.push_back(glm::vec3(float(r * std::cos(a)), float(r * std::sin(a)), 0.0f));
+// Per-vertex tangents for Mitsuba's normal-map frame: the normalised sum of the unit dp/du
+// of the vertex's faces, w = +1 (so the bitangent is n × t, Mitsuba's y axis); zero where
+// no face has usable uvs (the upload computes one there).
+std::vector<glm::vec4> dpdu_tangents(const std::vector<glm::vec3>& p,
+                                     const std::vector<glm::uvec3>& tris,
+                                     const std::vector<glm::vec2>& uv) {
+    std::vector<glm::dvec3> sum(p.size(), glm::dvec3(0.0));
+    for (const auto& t : tris) {
+        const glm::dvec3 e1 = glm::dvec3(p[t.y]) - glm::dvec3(p[t.x]);
+        const glm::dvec3 e2 = glm::dvec3(p[t.z]) - glm::dvec3(p[t.x]);
+        const glm::dvec2 d1 = glm::dvec2(uv[t.y]) - glm::dvec2(uv[t.x]);
+        const glm::dvec2 d2 = glm::dvec2(uv[t.z]) - glm::dvec2(uv[t.x]);
+        const double det = d1.x * d2.y - d2.x * d1.y;
+        if (!(std::abs(det) > 0.0)) continue;
+        const glm::dvec3 dpdu = (e1 * d2.y - e2 * d1.y) / det;
+        const double len = glm::length(dpdu);
+        if (!(len > 0.0) || !std::isfinite(len)) continue;
+        for (int k = 0; k < 3; ++k) sum[t[k]] += dpdu / len;
     }
-    for (int i = 0; i < n; ++i)
-        d.triangles.push_back(glm::uvec3(0, 1 + i, 1 + (i + 1) % n)); // counter-clockwise from +z
-    return d;
+    std::vector<glm::vec4> out(p.size(), glm::vec4(0.0f));
+    for (std::size_t i = 0; i < p.size(); ++i) {
+        const double len = glm::length(sum[i]);
+        if (len > 1e-12) out[i] = glm::vec4(glm::vec3(sum[i] / len), 1.0f);
+    }
+    return out;
 }
 
-// Open tube of radius 1 (area-preserving: perimeter 2π) from z = 0 to z = 1, normals outward.
-Mesh unit_tube() {
+// Adds a shape: positions by `m`, shading normals by its inverse transpose (negated with
+// flip_normals), uvs only when the material uses a texture (a scene without textures carries
+// none). A mirroring `m` or flip_normals reverses the winding, so the front stays the side the
+// normals point to. smooth: the shape is a mesh without normals, which Mitsuba shades with
+// smooth vertex normals (scene/normals.h, no crease).
+void Reader::add_geometry(pugi::xml_node n, ShapeGeometry g, const glm::dmat4& m, bool flip,
+                          std::uint32_t material, bool smooth) {
+    if (scene_.triangles.size() + g.triangles.size() > kMaxTriangles)
+        error(n, "the scene would have more than {} triangles", kMaxTriangles);
+    const glm::dmat3 linear(m);
+    const glm::dmat3 normal_matrix = glm::transpose(glm::inverse(linear));
+    for (auto& p : g.positions) {
+        p = glm::vec3(m * glm::dvec4(glm::dvec3(p), 1.0));
+        if (!std::isfinite(p.x) || !std::isfinite(p.y) || !std::isfinite(p.z))
+            error(n, "to_world maps a vertex to a non-finite position");
+    }
+    for (auto& v : g.normals) {
+        const glm::dvec3 w = normal_matrix * glm::dvec3(v);
+        const double len = glm::length(w);
+        v = len > 0.0 && std::isfinite(len) ? glm::vec3((flip ? -w : w) / len) : glm::vec3(0.0f);
+    }
+    if ((glm::determinant(linear) < 0.0) != flip)
+        for (auto& t : g.triangles) std::swap(t.y, t.z);
+    if (!scene_.materials[material].textured()) g.uvs.clear();
+    // Normal maps in Mitsuba's frame: x along dp/du, y = n × x whatever the uvs' handedness
+    // (wavepath's default follows the uvs, MikkTSpace-like): tangents dp/du with w = +1
+    std::vector<glm::vec4> tangents;
+    if (scene_.materials[material].normal_map.used() && !g.uvs.empty())
+        tangents = dpdu_tangents(g.positions, g.triangles, g.uvs);
+    const std::size_t first =
+        scene_.add_mesh(g.positions, g.triangles, material, g.normals, g.uvs, tangents);
+    if (smooth) smooth_normals(scene_, 180.0f, first);
+}
+
+// The analytic shapes as Mitsuba 3 defines them (src/shapes/*.cpp), in their own space, with
+// Mitsuba's uvs and, for the curved ones, analytic normals.
+
+// rectangle: [-1, 1]² at z = 0, normal +z, uv = ((x + 1) / 2, (y + 1) / 2): uv (0, 0), the
+// image's top-left corner, is at (-1, -1). Flat: no normals.
+ShapeGeometry rectangle_geometry() {
+    ShapeGeometry g;
+    Mesh q = make_quad(glm::vec3(-1, -1, 0), glm::vec3(2, 0, 0), glm::vec3(0, 2, 0));
+    g.positions = std::move(q.positions);
+    g.triangles = std::move(q.triangles);
+    for (const auto& p : g.positions) g.uvs.push_back(0.5f * (glm::vec2(p) + 1.0f));
+    return g;
+}
+
+// cube: [-1, 1]³ as Mitsuba's 24-vertex mesh, each face with its own four corners and the
+// whole texture: corners (counter-clockwise seen from outside) at uv (0, 1), (1, 1), (1, 0),
+// (0, 0), triangles (0, 1, 2) and (3, 0, 2) of them. Flat faces: no normals.
+ShapeGeometry cube_geometry() {
+    // Per face its four corners, in the order of Mitsuba's vertex table
+    static const float kFaces[6][4][3] = {
+        {{1, -1, -1}, {1, -1, 1}, {-1, -1, 1}, {-1, -1, -1}},  // -y
+        {{1, 1, -1}, {-1, 1, -1}, {-1, 1, 1}, {1, 1, 1}},      // +y
+        {{1, -1, -1}, {1, 1, -1}, {1, 1, 1}, {1, -1, 1}},      // +x
+        {{1, -1, 1}, {1, 1, 1}, {-1, 1, 1}, {-1, -1, 1}},      // +z
+        {{-1, -1, 1}, {-1, 1, 1}, {-1, 1, -1}, {-1, -1, -1}},  // -x
+        {{1, 1, -1}, {1, -1, -1}, {-1, -1, -1}, {-1, 1, -1}},  // -z
+    };
+    static const glm::vec2 kUv[4] = {{0, 1}, {1, 1}, {1, 0}, {0, 0}};
+    ShapeGeometry g;
+    for (std::uint32_t f = 0; f < 6; ++f) {
+        for (int k = 0; k < 4; ++k) {
+            g.positions.emplace_back(kFaces[f][k][0], kFaces[f][k][1], kFaces[f][k][2]);
+            g.uvs.push_back(kUv[k]);
+        }
+        const std::uint32_t b = 4 * f;
+        g.triangles.emplace_back(b, b + 1, b + 2);
+        g.triangles.emplace_back(b + 3, b, b + 2);
+    }
+    return g;
+}
+
+// sphere: the unit icosphere (area-preserving radius), normals p / |p|; with uvs (only when
+// textured: they split vertices at the seam and the poles) Mitsuba's (phi / 2 pi, theta / pi),
+// phi = atan2(y, x) in [0, 2 pi), theta measured from +z.
+ShapeGeometry sphere_geometry(bool with_uvs) {
+    const Mesh& unit = unit_sphere();
+    ShapeGeometry g;
+    g.positions = unit.positions;
+    g.triangles = unit.triangles;
+    for (const auto& p : g.positions) g.normals.push_back(glm::normalize(p));
+    if (with_uvs)
+        wrap_uvs(
+            g.positions, g.triangles, g.normals, g.uvs,
+            [](glm::vec3 p) {
+                double phi = std::atan2(double(p.y), double(p.x));
+                if (phi < 0.0) phi += 2.0 * kPi;
+                const double theta =
+                    std::acos(std::clamp(double(p.z) / glm::length(glm::dvec3(p)), -1.0, 1.0));
+                return glm::vec2(float(phi / (2.0 * kPi)), float(theta / kPi));
+            },
+            [](glm::vec3 p) { return p.x == 0.0f && p.y == 0.0f; });
+    return g;
+}
+
+// disk: radius 1 at z = 0, normal +z, a fan of kRoundSegments triangles of area pi;
+// uv = (r, phi / 2 pi) (Mitsuba's): the rim at u = 1 with the seam's vertex twice (v = 0 and
+// v = 1), the centre once per triangle (at the triangle's mean angle). Flat: no normals.
+ShapeGeometry disk_geometry() {
+    const int n = kRoundSegments;
+    // The regular n-gon of area pi: (n/2) r² sin(2 pi/n) = pi
+    const double r = std::sqrt(kPi / (0.5 * n * std::sin(2.0 * kPi / n)));
+    ShapeGeometry g;
+    for (int i = 0; i <= n; ++i) {  // rim; vertex n is vertex 0 again
+        const double a = 2.0 * kPi * (i % n) / n;
+        g.positions.emplace_back(float(r * std::cos(a)), float(r * std::sin(a)), 0.0f);
+        g.uvs.emplace_back(1.0f, float(i) / float(n));
+    }
+    for (int i = 0; i < n; ++i) {  // centre, one per triangle, counter-clockwise from +z
+        g.positions.emplace_back(0.0f);
+        g.uvs.emplace_back(0.0f, (float(i) + 0.5f) / float(n));
+        g.triangles.emplace_back(std::uint32_t(n + 1 + i), std::uint32_t(i), std::uint32_t(i + 1));
+    }
+    return g;
+}
+
+// cylinder: the open tube of radius 1 (area-preserving: perimeter 2 pi) from z = 0 to 1,
+// normals (x, y, 0) outward, uv = (phi / 2 pi, z) (Mitsuba's), the seam's vertices twice
+// (u = 0 and u = 1).
+ShapeGeometry tube_geometry() {
     const int n = kRoundSegments;
     const double r = kPi / (n * std::sin(kPi / n));
-    Mesh c;
+    ShapeGeometry g;
     for (int z = 0; z < 2; ++z)
-        for (int i = 0; i < n; ++i) {
-            double a = 2.0 * kPi * i / n;
-            c.positions.push_back(
-                glm::vec3(float(r * std::cos(a)), float(r * std::sin(a)), float(z)));
+        for (int i = 0; i <= n; ++i) {
+            const double a = 2.0 * kPi * (i % n) / n;
+            const glm::vec3 d(float(std::cos(a)), float(std::sin(a)), 0.0f);
+            g.positions.emplace_back(float(r * std::cos(a)), float(r * std::sin(a)), float(z));
+            g.normals.push_back(d);
+            g.uvs.emplace_back(float(i) / float(n), float(z));
         }
+    const auto row = std::uint32_t(n + 1);
     for (std::uint32_t i = 0; i < std::uint32_t(n); ++i) {
-        std::uint32_t j = (i + 1) % n, bi = i, bj = j, ti = i + n, tj = j + n;
-        c.triangles.push_back({bi, bj, tj});
-        c.triangles.push_back({bi, tj, ti});
+        const std::uint32_t bi = i, bj = i + 1, ti = i + row, tj = i + 1 + row;
+        g.triangles.push_back({bi, bj, tj});
+        g.triangles.push_back({bi, tj, ti});
     }
-    return c;
+    return g;
 }
 
 void Reader::read_shape(pugi::xml_node n) {
@@ -1266,26 +1763,24 @@ void Reader::read_shape(pugi::xml_node n) {
     }
     glm::dmat4 m = get_transform(o, "to_world").value_or(glm::dmat4(1.0));
     const bool flip = get_bool(o, "flip_normals").value_or(false);
+    const bool mesh = t == "obj" || t == "ply";
+    // Meshes: Mitsuba's own options (face_normals: flat shading; flip_tex_coords, default
+    // true: v -> 1 - v, which wavepath's mesh loaders already apply)
+    const bool face_normals = mesh && get_bool(o, "face_normals").value_or(false);
+    const bool flip_tex = !mesh || get_bool(o, "flip_tex_coords").value_or(true);
     mark_used(o, {"face_normals", "flip_tex_coords"});
 
-    // Geometry in the shape's own space, and the matrix to the world
-    Mesh mesh;
-    if (t == "obj" || t == "ply") {
+    // The parameters of the shape's geometry, and its matrix to the world
+    const Scene* file = nullptr;
+    if (mesh) {
         auto filename = get_string(o, "filename");
         if (!filename) error(n, "missing <string name=\"filename\" value=\"...\"/>");
-        mesh = mesh_file(n, *filename);
-    } else if (t == "rectangle") {
-        mesh = make_quad(glm::vec3(-1, -1, 0), glm::vec3(2, 0, 0), glm::vec3(0, 2, 0));
-    } else if (t == "cube") {
-        mesh = make_box(glm::vec3(-1.0f), glm::vec3(1.0f), 1);
+        file = &mesh_file(n, *filename);
     } else if (t == "sphere") {
         glm::dvec3 c = get_point(o, "center").value_or(glm::dvec3(0.0));
         double r = get_float(o, "radius").value_or(1.0);
         if (!(r > 0.0)) error(n, "radius {} must be > 0", r);
         m = m * glm::translate(glm::dmat4(1.0), c) * glm::scale(glm::dmat4(1.0), glm::dvec3(r));
-        mesh = unit_sphere();
-    } else if (t == "disk") {
-        mesh = unit_disk();
     } else if (t == "cylinder") {
         glm::dvec3 p0 = get_point(o, "p0").value_or(glm::dvec3(0.0));
         glm::dvec3 p1 = get_point(o, "p1").value_or(glm::dvec3(0, 0, 1));
@@ -1293,18 +1788,16 @@ void Reader::read_shape(pugi::xml_node n) {
         if (!(r > 0.0)) error(n, "radius {} must be > 0", r);
         glm::dvec3 d = p1 - p0;
         if (!(glm::length(d) > 0.0)) error(n, "p0 and p1 coincide");
-        glm::dvec3 w = glm::normalize(d);
-        glm::dvec3 u = glm::normalize(
-            glm::cross(std::abs(w.x) < 0.9 ? glm::dvec3(1, 0, 0) : glm::dvec3(0, 1, 0), w));
-        glm::dvec3 v = glm::cross(w, u); // (u, v, w) right-handed
+        // Mitsuba: to_world · translate(p0) · to_frame(Frame(d / |d|)) · scale(r, r, |d|)
+        auto [u, v] = coordinate_system(glm::normalize(d));
         glm::dmat4 frame(glm::dvec4(u * r, 0), glm::dvec4(v * r, 0), glm::dvec4(d, 0),
                          glm::dvec4(p0, 1));
         m = m * frame;
-        mesh = unit_tube();
     }
 
     // Emitter (area lights) and material
     std::optional<glm::vec3> emission;
+    TextureRef emission_map;
     for (auto& item : o.nested) {
         if (std::string_view(item.node.name()) != "emitter") continue;
         item.used = true;
@@ -1320,19 +1813,102 @@ void Reader::read_shape(pugi::xml_node n) {
             skip(e);
             continue;
         }
-        glm::vec3 l = get_color(e, "radiance").value_or(glm::vec3(1.0f));
+        glm::vec3 l(1.0f);
+        if (auto tex = nested_texture(e, "radiance")) {
+            // A textured radiance: the texture is the emitted radiance (emission 1 × map)
+            l = tex->first.mean;
+            if (tex->first.ref.used() && !tex->first.missing) {
+                l = glm::vec3(1.0f);
+                emission_map = tex->first.ref;
+            }
+        } else {
+            l = get_color(e, "radiance").value_or(glm::vec3(1.0f));
+        }
         if (glm::any(glm::lessThan(l, glm::vec3(0.0f))))
             error(item.node, "radiance ({}, {}, {}) must be >= 0", l.x, l.y, l.z);
         emission = l;
         finish(e);
     }
-    std::uint32_t material = shape_material(o, emission);
-    add_geometry(n, std::move(mesh), m, flip, material);
+    const std::uint32_t material = shape_material(o, emission, emission_map);
+    const bool textured = scene_.materials[material].textured();
+
+    // The geometry in the shape's own space
+    ShapeGeometry g;
+    bool smooth = false;
+    if (mesh) {
+        g.positions = file->positions;
+        g.triangles = file->triangles;
+        if (!face_normals) g.normals = file->normals;
+        if (textured) {
+            g.uvs = file->uvs;
+            if (!flip_tex)
+                for (auto& uv : g.uvs) uv.y = 1.0f - uv.y;  // undo the loaders' 1 - v
+        }
+        bool any_normal = false;
+        for (const auto& v : g.normals) any_normal = any_normal || v != glm::vec3(0.0f);
+        if (!any_normal) g.normals.clear();
+        smooth = !face_normals;  // triangles without normals get smooth ones, as in Mitsuba
+    } else if (t == "rectangle") {
+        g = rectangle_geometry();
+    } else if (t == "cube") {
+        g = cube_geometry();
+    } else if (t == "sphere") {
+        g = sphere_geometry(textured);
+    } else if (t == "disk") {
+        g = disk_geometry();
+    } else if (t == "cylinder") {
+        g = tube_geometry();
+    }
+    add_geometry(n, std::move(g), m, flip, material, smooth);
+    finish(o);
+}
+
+// An environment map (Mitsuba's envmap): the equirectangular image, scale and to_world.
+void Reader::read_envmap(Obj& o) {
+    const pugi::xml_node n = o.node;
+    if (env_where_)
+        error(n, "a second environment map: wavepath takes one (the first is at {})", *env_where_);
+    auto filename = get_string(o, "filename");
+    if (!filename) error(n, "missing <string name=\"filename\" value=\"...\"/> (the map)");
+    if (filename->empty()) error(prop(o, "filename", {"string"}, "")->node, "empty filename");
+    const double scale = get_float(o, "scale").value_or(1.0);
+    if (!(scale >= 0.0))
+        error(prop(o, "scale", {"float", "integer"}, "")->node, "scale {} must be >= 0", scale);
+    const glm::dmat4 to_world = get_transform(o, "to_world").value_or(glm::dmat4(1.0));
+    mark_used(o, {"filter_type", "mis_compensation"});
+    // The rotation of to_world (Mitsuba's envmap turns directions by it); anything else (a
+    // scale, a shear) is dropped with a warning: the columns are made orthonormal.
+    glm::dmat3 r(to_world);
+    const double det = glm::determinant(r);
+    if (!(std::abs(det) > 1e-12) || !std::isfinite(det))
+        error(prop(o, "to_world", {"transform"}, "")->node, "to_world is singular");
+    const glm::dmat3 rtr = glm::transpose(r) * r;
+    double off = 0.0;
+    for (int i = 0; i < 3; ++i)
+        for (int j = 0; j < 3; ++j) off = std::max(off, std::abs(rtr[i][j] - (i == j ? 1.0 : 0.0)));
+    if (off > 1e-5) {
+        note("envmap to_world", prop(o, "to_world", {"transform"}, "")->node,
+             "the envmap's to_world is not a rotation; only its rotation is used");
+        const glm::dvec3 x = glm::normalize(r[0]);
+        const glm::dvec3 y = glm::normalize(r[1] - glm::dot(r[1], x) * x);
+        r = glm::dmat3(x, y, det > 0.0 ? glm::cross(x, y) : -glm::cross(x, y));
+    }
+    Environment env;
+    bool missing = false;
+    env.image = image_file(*filename, TextureUse::Colour, missing);
+    env.scale = float(scale);
+    env.to_world = glm::mat3(r);
+    scene_.environment = env;
+    env_where_ = where(n);
     finish(o);
 }
 
 void Reader::read_emitter(pugi::xml_node n) {
     Obj o = collect(n);
+    if (o.type == "envmap") {
+        read_envmap(o);
+        return;
+    }
     if (o.type == "constant") {
         glm::vec3 l = get_color(o, "radiance").value_or(glm::vec3(1.0f));
         if (glm::any(glm::lessThan(l, glm::vec3(0.0f))))
@@ -1346,8 +1922,8 @@ void Reader::read_emitter(pugi::xml_node n) {
              "an area emitter outside a <shape> has nothing to emit from; ignored");
     else
         note("emitter " + o.type, n,
-             fmt::format("emitter '{}' is not supported; skipped (wavepath has area lights "
-                         "and a constant background)",
+             fmt::format("emitter '{}' is not supported; skipped (wavepath has area lights, "
+                         "a constant background and an environment map)",
                          o.type));
     skip(o);
 }
@@ -1430,6 +2006,7 @@ Scene Reader::read() {
         note("no sensor", root,
              "no <sensor>: the camera frames the scene from +z (800 x 600, 40 degrees)");
     }
+    prune_textures(scene_);
     for (const Note& nt : notes_)
         scene_.warnings.push_back(nt.count == 1 ? fmt::format("{}: {}", nt.where, nt.text)
                                                 : fmt::format("{}: {} ({} times; the first here)",

@@ -2,7 +2,8 @@
 //
 // Reads the scene files of Bitterli's rendering resources and similar research scenes into a
 // Scene: one perspective sensor, meshes and analytic shapes with their to_world transforms,
-// the common BSDFs, area and constant emitters, the integrator's depth and the sample count.
+// shading normals and uvs, the common BSDFs with their textures, normal maps and masks, area,
+// constant and environment-map emitters, the integrator's depth and the sample count.
 //
 // Parameters. `<default name="N" value="V"/>` (a child of <scene>) defines $N unless an
 // override (the `params` argument, like `mitsuba -D N=V`) already did. Every attribute value
@@ -29,13 +30,25 @@
 // Shapes (to_world = matrix, translate, rotate, scale, lookat, composed in document order:
 //   each new one is applied after the previous ones, M = new · M):
 //   obj, ply      `filename` relative to the XML file's folder, through load_mesh_file (the
-//                 mesh file's own materials are ignored, as Mitsuba does; flip_normals honoured)
-//   rectangle     [−1, 1]² in the z = 0 plane, normal +z (2 triangles)
-//   cube          [−1, 1]³, normals outward (12 triangles)
+//                 mesh file's own materials are ignored, as Mitsuba does; flip_normals honoured).
+//                 The file's vertex normals shade; where it has none, smooth vertex normals
+//                 are computed (scene/normals.h, no crease), as Mitsuba does, unless
+//                 face_normals is true (then the file's normals are dropped too). Its uvs are
+//                 kept (the loaders store 1 − v, Mitsuba's default flip_tex_coords = true;
+//                 flip_tex_coords = false undoes it)
+//   rectangle     [−1, 1]² in the z = 0 plane, normal +z (2 triangles), uv ((x + 1)/2, (y + 1)/2)
+//   cube          [−1, 1]³, normals outward: Mitsuba's 24-vertex mesh (12 triangles), each face
+//                 the whole texture with Mitsuba's uvs
 //   sphere        center, radius (then to_world): an icosphere of 5,120 triangles whose radius
-//                 is scaled so that its area is 4πr² (an emitter keeps its power)
-//   disk          radius 1 in z = 0, normal +z: 128 segments, area π
-//   cylinder      p0, p1, radius (open tube, normals outward): 128 segments, area 2πrh
+//                 is scaled so that its area is 4πr² (an emitter keeps its power); normals
+//                 (p − c)/|p − c|; uv (φ/2π, θ/π), φ = atan2(y, x) in [0, 2π), θ from +z, in
+//                 the sphere's own space (vertices at the seam and the poles are split)
+//   disk          radius 1 in z = 0, normal +z: 128 segments, area π; uv (r, φ/2π)
+//   cylinder      p0, p1, radius (open tube, normals outward): 128 segments, area 2πrh, in
+//                 Mitsuba's frame (coordinate_system of p1 − p0); normals radial; uv (φ/2π, z)
+//   Flat shapes carry no normals (the geometric one shades); uvs are kept only for shapes
+//   whose material has a texture, so untextured scenes carry none. A mirroring to_world or
+//   flip_normals reverses the winding and turns the normals with it (inverse transpose).
 //   Other shape types (serialized, shapegroup, instance, ...) are skipped with a warning.
 //   A shape without a BSDF gets Mitsuba's default, diffuse 0.5.
 // BSDFs (by nesting or <ref id>; wavepath materials shade both sides):
@@ -57,16 +70,46 @@
 //                           albedo = specular_transmittance
 //   thindielectric, roughdielectric → Glass (warning)
 //   plastic, roughplastic, principled → Diffuse with diffuse_reflectance / base_color (warning)
-//   blendbsdf, mask, bumpmap, normalmap → their first nested BSDF (warning)
+//   normalmap               its nested BSDF with the `normalmap` texture as its tangent-space
+//                           normal map (normal_scale 1) in Mitsuba's frame: x along dp/du,
+//                           y = n × x whatever the handedness of the uvs (the shapes get
+//                           tangents dp/du with w = +1: per vertex, the mean of its faces'
+//                           dp/du, where Mitsuba's meshes use each face's); a missing file
+//                           leaves the BSDF unchanged
+//   mask                    its nested BSDF with an alpha cut-out: coverage = the `opacity`
+//                           (default 0.5; a texture's luminance) in the A channel of an alpha
+//                           map made from it, cutoff 0.5. Mitsuba's mask is stochastic, so this
+//                           is exact only for opacity 0 or 1: anything else warns once. A
+//                           missing opacity file leaves the surface opaque
+//   blendbsdf, bumpmap → their first nested BSDF (warning)
 //   null → black Diffuse (warning); anything else → Diffuse 0.5 (warning)
 //   A reflecting BSDF that is not inside twosided is one-sided in Mitsuba (black from
-//   behind); wavepath shades it on both sides: one warning. Textures in place of a colour:
-//   checkerboard → the mean of color0/color1, others 0.5 (warning).
+//   behind); wavepath shades it on both sides: one warning.
+// Textures (inline <texture name=...> or <ref name=... id=...> to a top-level one), wherever a
+//   BSDF takes a reflectance (diffuse reflectance, conductor specular_reflectance, plastic
+//   diffuse_reflectance, principled base_color, dielectric specular_transmittance → the
+//   albedo map, the constant 1 (conductors: F0)), roughconductor alpha, normalmap, mask
+//   opacity and an area emitter's radiance (→ emission map, emission 1):
+//   bitmap        filename (relative to the XML file; missing: a warning and a placeholder,
+//                 scene/texture.h), raw (true: data, else an sRGB-encoded colour),
+//                 filter_type bilinear | nearest (→ Texture::nearest, for every use of that
+//                 file), wrap_mode repeat (mirror, clamp: rendered as repeat, warning), to_uv
+//                 (its x/y rows and columns and translation → TextureRef::uv_transform),
+//                 format and accel ignored
+//   checkerboard  color0 (0.4), color1 (0.2), to_uv: a 2 x 2 nearest image (color0 top left)
+//   Other texture types: 0.5 grey (warning). roughconductor alpha as a texture: alpha_max ×
+//   G² with G = sqrt(a / alpha_max) per texel (a: the texel's luminance, Mitsuba's eval_1);
+//   alpha_u/alpha_v as textures: their mean values (warning). A texture where wavepath takes
+//   a constant (eta, k, a constant emitter's radiance, ...): its mean (checkerboard) or 0.5,
+//   with a warning.
 //   Metals (RGB η, k fitted by Tungsten's ComplexIorData.hpp from the spectral data Mitsuba
 //   uses): Ag, Al, Au, Be, Cr, Cu, Hg, Ir, K, Li, Mo, Rh, Ta, TiN, VN, W, Na_palik, Ni_palik.
 // Emitters: area (inside a shape): radiance → emission of a material made for that shape
 //   (front side = the shape's normal side). constant (top level): radiance → background
-//   (several add up). Others (point, spot, directional, envmap, ...) are skipped (warning).
+//   (several add up). envmap (top level): filename (as a bitmap's, read as colour), scale
+//   (default 1, >= 0), to_world (its rotation; a scale or shear is dropped with a warning) →
+//   Scene::environment; filter_type and mis_compensation are ignored; a second envmap is an
+//   error. Others (point, spot, directional, ...) are skipped (warning).
 // Colours: <rgb value="r, g, b"> or one value, <spectrum value="v"> (or "λ:v, ..." pairs:
 //   their mean, warning), <float>. Reflectances must lie in [0, 1], radiances be >= 0.
 //
@@ -81,7 +124,9 @@
 // radius, ...), a <ref> to an undefined id, a duplicate id, a mesh file that is missing or
 // fails to load, more than 2^25 triangles in all, BSDF nesting deeper than 16, element
 // nesting deeper than 64, an attribute that expands to over 64 KiB, int_ior / ext_ior
-// outside [0.01, 100].
+// outside [0.01, 100], a bitmap without a filename or with an unknown filter_type or
+// wrap_mode, a checkerboard reflectance outside [0, 1], a normalmap without its texture, a
+// second envmap (naming the first).
 // Nothing is printed; the result has passed validate_scene.
 #pragma once
 

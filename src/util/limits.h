@@ -45,6 +45,14 @@ constexpr std::int64_t kMaxPool = std::int64_t(1) << 30;
 // Seeds are 32-bit: 0..kMaxSeed.
 constexpr std::int64_t kMaxSeed = 0xffffffffLL;
 
+// Appearance edits on the command line (render --env-scale, --env-rotate, --smooth) and the
+// crease angle of computed smooth normals (also JSON "smooth"): a radiance scale 0..1e6, a
+// rotation of the environment map about +y of at most one turn either way, a crease angle
+// 0..180 degrees (180: no creases).
+constexpr double kMaxEnvScale = 1e6;
+constexpr double kMaxEnvRotateDeg = 360.0;
+constexpr double kMaxCreaseDeg = 180.0;
+
 // The estimator's defaults (sampling, glossy model, sampler, Russian roulette) are
 // kernels/shared/estimator.h's, read by the kernels and render::Estimator alike.
 
