@@ -206,7 +206,7 @@ WP_FN int wp_shade_path(Ray ray, PathState path, Hit hit, WP_GLOBAL const Triang
 #if WP_HAVE_TEXTURES
     MaterialTextures mt = app.material_textures[material_ids[hit.prim]];
     float2 uv = wp_hit_uv(app, hit.prim, hit.u, hit.v);
-    float lod = wp_footprint_lod(app, hit.prim, v1 - v0, v2 - v0, cone, dot(dn, n));
+    float lod = wp_footprint_lod(app, hit.prim, v1 - v0, v2 - v0, cone, fabs(dot(dn, n)));
     m = wp_textured_material(m, mt, app.pool, uv, lod);
 #endif
 
@@ -237,9 +237,13 @@ WP_FN int wp_shade_path(Ray ray, PathState path, Hit hit, WP_GLOBAL const Triang
     // on that side (ng itself without shading normals).
     float3 ng = front ? n : -n;
     float3 ns = ng;
+    // Chiang et al.'s terminator factor is for interpolated normals on coarse meshes; a
+    // normal map's own shading is kept as authored (as Mitsuba 3 and pbrt-v4 render it).
+    int terminator = 0;
 #if WP_HAVE_NORMALS
     {
         float3 nf = wp_interpolated_normal(app.normals[hit.prim], hit.u, hit.v, n);
+        terminator = 1;
 #if WP_HAVE_NORMAL_MAPS
         if (mt.normal >= 0) {
             TriTangents tt = app.tangents[hit.prim];
@@ -248,10 +252,13 @@ WP_FN int wp_shade_path(Ray ray, PathState path, Hit hit, WP_GLOBAL const Triang
             float3 mv = make_float3((2.0f * c.x - 1.0f) * mt.normal_scale,
                                     (2.0f * c.y - 1.0f) * mt.normal_scale, 2.0f * c.z - 1.0f);
             nf = wp_apply_normal_map(nf, make_float4(t3.x, t3.y, t3.z, tt.t0.w), mv);
+            terminator = 0;
         }
 #endif
         ns = front ? nf : -nf;
-        ns = wp_bend_normal(ns, ng, -dn);  // failure mode 1 (shading.h)
+        // Failure mode 1 (shading.h): always where the viewer sees the back of ns; for
+        // lobes around the mirror direction also where that direction falls below.
+        if (m.kind != WP_MATERIAL_DIFFUSE || dot(-dn, ns) <= 0.0f) ns = wp_bend_normal(ns, ng, -dn);
     }
 #endif
     float3 perr;
@@ -309,7 +316,7 @@ WP_FN int wp_shade_path(Ray ray, PathState path, Hit hit, WP_GLOBAL const Triang
         float3 fcos = make_float3(0.0f, 0.0f, 0.0f);
         if (dot(wi, ng) > 0.0f) fcos = wp_bsdf_eval(m, dn, ns, wi, &bsdf_pdf);
 #if WP_HAVE_NORMALS
-        fcos = fcos * wp_terminator_factor(ng, ns, wi);  // failure mode 3
+        if (terminator) fcos = fcos * wp_terminator_factor(ng, ns, wi);  // failure mode 3
 #endif
         if (p_light > 0.0f && wp_max_component(fcos) > 0.0f) {
             float w = 1.0f;
@@ -340,7 +347,7 @@ WP_FN int wp_shade_path(Ray ray, PathState path, Hit hit, WP_GLOBAL const Triang
     // A reflection below the geometric surface or a transmission that stays above it is
     // absorbed (failure mode 2); non-specular reflections get the terminator factor (3).
     if (!wp_same_side(wo, ns, ng)) return 0;
-    if (!specular && dot(wo, ng) > 0.0f) weight = weight * wp_terminator_factor(ng, ns, wo);
+    if (terminator && !specular && dot(wo, ng) > 0.0f) weight = weight * wp_terminator_factor(ng, ns, wo);
 #endif
     beta = beta * weight;
     if (!wp_all_finite3(beta) || !wp_all_finite3(wo)) {

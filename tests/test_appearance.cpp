@@ -11,6 +11,7 @@
 #include "render/wavefront.h"
 #include "scene/builtin.h"
 #include "scene/procedural.h"
+#include "scene/texture.h"
 #include "shared/shading.h"
 #include "support.h"
 
@@ -323,4 +324,18 @@ TEST_CASE("render: an albedo texture multiplies the albedo, top-left at uv (0, 0
     CHECK(px(29, 2, 0) == Approx(0.5f).epsilon(1e-5));  // top-right: grey
     CHECK(px(2, 29, 0) == Approx(0.5f).epsilon(1e-5));  // bottom-left: grey
     CHECK(px(29, 29, 1) == Approx(0.5f).epsilon(1e-5));
+}
+
+// One file used with two filters (Mitsuba bitmaps, JSON textures): the filter is the use's,
+// so the second use gets its own copy and the first keeps its filter.
+TEST_CASE("texture: one image used with both filters keeps each use's filter", "[unit][appearance]") {
+    Scene s;
+    s.textures.push_back(constant_texture(2, 2, glm::vec3(0.5f)));
+    int nearest = texture_with_filter(s, 0, true);
+    CHECK(nearest != 0);
+    CHECK(s.textures[0].nearest == false);
+    CHECK(s.textures[std::size_t(nearest)].nearest == true);
+    CHECK(texture_with_filter(s, 0, true) == nearest);  // reused, not copied again
+    CHECK(texture_with_filter(s, 0, false) == 0);
+    CHECK(s.textures.size() == 2);
 }

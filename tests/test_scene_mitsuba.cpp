@@ -1043,11 +1043,16 @@ TEST_CASE("mitsuba: bitmap and checkerboard textures become albedo maps with the
     }
     // to_uv rotate 90 degrees about z: (u, v) -> (-v, u)
     check_vec(glm::dvec3(apply_uv(plastic.albedo_map.uv_transform, {0.1f, 0.2f}), 0.0), {-0.2, 0.1, 0});
-    // Conductor: the map times F0 (material "none": 1); the same file is one image
+    // Conductor: the map times F0 (material "none": 1)
     const Material& metal = material_of(s, 4);
     CHECK(metal.kind == MaterialKind::Mirror);
     CHECK(metal.albedo == glm::vec3(1.0f));
-    CHECK(metal.albedo_map.image == wood.albedo_map.image);
+    // The same file, but this bitmap filters bilinearly: its own copy, the wood's stays nearest
+    REQUIRE(metal.albedo_map.used());
+    const Texture& metal_img = s.textures.at(std::size_t(metal.albedo_map.image));
+    CHECK(metal_img.source == img.source);
+    CHECK(!metal_img.nearest);
+    CHECK(img.nearest);
     CHECK(metal.albedo_map.uv_transform == glm::mat3(1.0f));
     // Textured shapes carry uvs; the rectangle's are ((x + 1) / 2, (y + 1) / 2)
     REQUIRE(s.uvs.size() == s.positions.size());

@@ -11,6 +11,10 @@
 //      wp_bend_normal tilts ns towards ng, just enough that the mirror direction of wo lies
 //      WP_BEND_EPS above the geometric tangent plane (the "bent normal" of Keller et al.,
 //      "The Iray Light Transport Simulation and Rendering System", 2017, appendix A.3).
+//      shade bends for every lobe where the viewer sees the back of ns, and for the kinds
+//      whose lobes follow the mirror direction (mirror, glossy, glass) also where only that
+//      direction falls below; a diffuse lobe does not depend on it, so where the viewer sees
+//      the front its shading normal is left as the file gave it (as Mitsuba 3 renders it).
 //   2. A sampled direction on the other geometric side than the BSDF meant (a reflection
 //      below the surface or a transmission that stays above it): wp_same_side rejects it and
 //      the path is absorbed: energy is lost, never leaked through the surface. Light
@@ -20,7 +24,8 @@
 //      smooth shadowing term of Chiang, Li & Burley, "Taming the Shadow Terminator"
 //      (SIGGRAPH 2019 talks): G = min(1, dot(ng, wi) / (dot(ns, wi) dot(ng, ns))),
 //      factor = -G³ + G² + G, applied to the non-specular reflection of light (light samples
-//      and sampled bounces).
+//      and sampled bounces) where the shading normal is interpolated; not where a normal map
+//      sets it, whose shading is kept as authored (Mitsuba 3 and pbrt-v4 apply no factor).
 #ifndef WP_SHADING_H
 #define WP_SHADING_H
 

@@ -991,7 +991,7 @@ TextureRef Reader::use_texture(const TexSpec& t, Scene& s) const {
     } else {
         const bool colour = t.slot == TexSlot::Albedo || t.slot == TexSlot::Emission;
         image = add_texture_file(s, file_path(t.file), colour ? TextureUse::Colour : TextureUse::Data);
-        if (t.nearest) s.textures[std::size_t(image)].nearest = true;
+        image = texture_with_filter(s, image, t.nearest);
     }
     return TextureRef{image, t.uv};
 }

@@ -790,7 +790,7 @@ TexInfo Reader::read_texture(pugi::xml_node t) {
         mark_used(o, {"format", "accel"});
         info.ref.image = image_file(*filename, info.raw ? TextureUse::Data : TextureUse::Colour,
                                     info.missing);
-        if (filter == "nearest") scene_.textures[std::size_t(info.ref.image)].nearest = true;
+        info.ref.image = texture_with_filter(scene_, info.ref.image, filter == "nearest");
         info.ref.uv_transform = uv_matrix(to_uv);
     } else if (o.type == "checkerboard") {
         info.checker = true;

@@ -135,7 +135,9 @@ void Scene::append(const Scene& src, const glm::mat4& to_world,
     nrm.reserve(src.normals.size());
     for (const auto& n : src.normals) nrm.push_back(normal_matrix * n);
     tan.reserve(src.tangents.size());
-    for (const auto& t : src.tangents) tan.push_back(glm::vec4(linear * glm::vec3(t), t.w));
+    // A mirroring transform reverses the handedness: w keeps w cross(n, t) the bitangent.
+    const float hand = glm::determinant(linear) < 0.0f ? -1.0f : 1.0f;
+    for (const auto& t : src.tangents) tan.push_back(glm::vec4(linear * glm::vec3(t), t.w * hand));
     append_attribute(normals, base, nrm, pos.size(), "normals");
     append_attribute(uvs, base, src.uvs, pos.size(), "uvs");
     append_attribute(tangents, base, tan, pos.size(), "tangents");

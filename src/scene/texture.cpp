@@ -265,6 +265,22 @@ Texture placeholder_texture(const std::string& source) {
     return t;
 }
 
+int texture_with_filter(Scene& scene, int index, bool nearest) {
+    const Texture& t = scene.textures.at(static_cast<std::size_t>(index));
+    if (t.nearest == nearest) return index;
+    for (std::size_t i = 0; i < scene.textures.size(); ++i) {
+        const Texture& c = scene.textures[i];
+        if (c.nearest == nearest && c.source == t.source && c.srgb == t.srgb &&
+            c.width == t.width && c.height == t.height && c.texels8 == t.texels8 &&
+            c.texelsf == t.texelsf)
+            return static_cast<int>(i);
+    }
+    Texture copy = t;
+    copy.nearest = nearest;
+    scene.textures.push_back(std::move(copy));
+    return static_cast<int>(scene.textures.size() - 1);
+}
+
 Texture checkerboard_texture(glm::vec3 c0, glm::vec3 c1, const std::string& name) {
     Texture t;
     t.source = name;

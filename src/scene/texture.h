@@ -62,6 +62,11 @@ int add_texture_file(Scene& scene, const std::filesystem::path& path, TextureUse
 // visible stand-in for a texture that could not be loaded. `source` names it.
 Texture placeholder_texture(const std::string& source);
 
+// The index of a texture with the texels of scene.textures[index] and the filter `nearest`
+// (a sampler's choice, while add_texture_file shares one image per file): `index` itself
+// when its filter matches, else an earlier copy with that filter, else a new copy.
+int texture_with_filter(Scene& scene, int index, bool nearest);
+
 // Mitsuba 3's checkerboard texture: c0 where (u mod 1 < 0.5) == (v mod 1 < 0.5), else c1,
 // as a 2 x 2 float texture with nearest lookups (texels (0, 0) and (1, 1) are c0).
 Texture checkerboard_texture(glm::vec3 c0, glm::vec3 c1, const std::string& name);
