@@ -273,60 +273,80 @@ WP_FN int wp_shade_path(Ray ray, PathState path, Hit hit, WP_GLOBAL const Triang
     if (!wp_material_is_specular(m) && (lights.count > 0 || WP_HAVE_ENV)) {
         float4 ul = wp_rng4(seed, pixel, sample, (uint)bounce, WP_RNG_LIGHT);
         float p_env = wp_env_choice(lights.count);
-        float3 wi, le, sd;
+        float3 wi;
+        int lp = -1;  // the light triangle (-1: the environment)
+        // The light point (triangle lights): the shadow ray's end is computed only for a
+        // contribution that is pushed.
+        float3 l0 = make_float3(0.0f, 0.0f, 0.0f), l1 = l0, l2 = l0, ln = l0, y = l0, yerr = l0;
+        int env_sample = 0;
+#if WP_HAVE_TEXTURES
+        float2 lbl = make_float2(0.0f, 0.0f);  // the light point's barycentrics
+#endif
         float p_light = 0.0f;
 #if WP_HAVE_ENV
         if (ul.w < p_env) {
             float pdf_dir;
             wi = wp_env_sample(app.env, ul.x, ul.y, &pdf_dir);
             p_light = p_env * pdf_dir;
-            le = p_light > 0.0f ? wp_env_radiance(app.env, wi) : make_float3(0.0f, 0.0f, 0.0f);
-            sd = wi * app.env_distance;
+            env_sample = 1;
         } else
 #endif
         {
             int li = wp_light_pick(lights.cdf, lights.count, ul.z);
-            int lp = lights.prims[li];
+            lp = lights.prims[li];
             Triangle lt = tris[lp];
-            float3 l0 = wp_xyz(lt.v0), l1 = wp_xyz(lt.v1), l2 = wp_xyz(lt.v2);
-            float3 ln = normalize(cross(l1 - l0, l2 - l0));
+            l0 = wp_xyz(lt.v0), l1 = wp_xyz(lt.v1), l2 = wp_xyz(lt.v2);
+            ln = normalize(cross(l1 - l0, l2 - l0));
             float2 bl = wp_sample_triangle_barycentric(ul.x, ul.y);
-            float3 yerr;
-            float3 y = wp_hit_point(l0, l1, l2, bl.x, bl.y, &yerr);
+            y = wp_hit_point(l0, l1, l2, bl.x, bl.y, &yerr);
             float3 to = y - p;
             float dist2 = dot(to, to);
             wi = to * (1.0f / sqrt(dist2));
             p_light = wp_light_pdf_solid_angle(lights.pdf_area[lp] * (1.0f - p_env), dist2, -dot(wi, ln));
-            le = wp_xyz(materials[material_ids[lp]].emission);
 #if WP_HAVE_TEXTURES
-            MaterialTextures lmt = app.material_textures[material_ids[lp]];
-            if (lmt.emission >= 0) {
-                float4 c = wp_texture_view(app.pool, lmt.emission,
-                                           wp_hit_uv(app, lp, bl.x, bl.y), -FLT_MAX);
-                le = le * wp_xyz(c);
-            }
+            lbl = bl;
 #endif
-            // Segment from the offset origin to the light point offset to its front:
-            // hits need 0 < t < 1.
-            float3 target = wp_offset_ray_origin(y, yerr, ln, wp_triangle_offset(l0, l1, l2));
-            sd = target - org;
         }
         // Light on the geometric side of arrival only (a reflection; failure mode 2).
+        // (Without shading normals ns = ng, and the BSDF's own cosine test is that test.)
         float bsdf_pdf = 0.0f;
+#if WP_HAVE_NORMALS
         float3 fcos = make_float3(0.0f, 0.0f, 0.0f);
         if (dot(wi, ng) > 0.0f) fcos = wp_bsdf_eval(m, dn, ns, wi, &bsdf_pdf);
-#if WP_HAVE_NORMALS
         if (terminator) fcos = fcos * wp_terminator_factor(ng, ns, wi);  // failure mode 3
+#else
+        float3 fcos = wp_bsdf_eval(m, dn, ns, wi, &bsdf_pdf);
 #endif
         if (p_light > 0.0f && wp_max_component(fcos) > 0.0f) {
             float w = 1.0f;
 #if WP_SAMPLING == WP_SAMPLING_MIS
             w = wp_power_heuristic(p_light, bsdf_pdf);
 #endif
+            // The light's radiance towards the shading point (looked up only now).
+            float3 le;
+#if WP_HAVE_ENV
+            if (env_sample) {
+                le = wp_env_radiance(app.env, wi);
+            } else
+#endif
+            {
+                le = wp_xyz(materials[material_ids[lp]].emission);
+#if WP_HAVE_TEXTURES
+                MaterialTextures lmt = app.material_textures[material_ids[lp]];
+                if (lmt.emission >= 0)
+                    le = le * wp_xyz(wp_texture_view(app.pool, lmt.emission,
+                                                     wp_hit_uv(app, lp, lbl.x, lbl.y), -FLT_MAX));
+#endif
+            }
             float3 c = beta * fcos * le * (w / p_light);
             if (!wp_all_finite3(c)) {
                 wp_atomic_inc(&counters[WP_COUNTER_SHADE_NONFINITE]);
             } else if (wp_max_component(c) > 0.0f) {
+                // Towards the environment: a segment beyond the scene; to a triangle: from
+                // the offset origin to the light point offset to its front (hits need
+                // 0 < t < 1).
+                float3 sd = env_sample ? wi * app.env_distance
+                                       : wp_offset_ray_origin(y, yerr, ln, wp_triangle_offset(l0, l1, l2)) - org;
                 shadow_ray->org = make_float4(org.x, org.y, org.z, 0.0f);
                 shadow_ray->dir = make_float4(sd.x, sd.y, sd.z, 1.0f);
                 *contrib = wp_float4(c, 0.0f);
