@@ -799,11 +799,15 @@ TEST_CASE("json scene: texture references on materials: files, transforms, check
     const wp::Material& tiles = material_by_name(s, "tiles");
     CHECK(tiles.albedo == glm::vec3(0.5f));  // given: multiplies the texture
     REQUIRE(tiles.albedo_map.used());
-    CHECK(tiles.albedo_map.image == wood.albedo_map.image);  // the same file is one image
+    // the same file, but "filter": "nearest" is this use's: its own image, the wood's stays
+    // bilinear
+    const wp::Texture& tiles_img = s.textures.at(std::size_t(tiles.albedo_map.image));
+    CHECK(tiles_img.source == img.source);
+    CHECK(tiles_img.nearest);
+    CHECK(!img.nearest);
     const glm::dvec2 t = apply_uv(tiles.albedo_map.uv_transform, {0.1f, 0.2f});
     CHECK(t.x == Approx(1.3).margin(1e-6));
     CHECK(t.y == Approx(0.05).margin(1e-6));
-    CHECK(img.nearest);  // "filter": "nearest" on that file
     // the roughness texture: alpha = 1 x G² when no roughness is given
     CHECK(tiles.alpha == 1.0f);
     REQUIRE(tiles.roughness_map.used());
@@ -828,7 +832,7 @@ TEST_CASE("json scene: texture references on materials: files, transforms, check
     CHECK(a.texelsf[3] == 0.0f);       // texel (0, 0): color0
     CHECK(a.texelsf[4 + 3] == 1.0f);   // texel (1, 0): color1
     // The unused material's texture is never read; textured quads carry uvs (s, 1 - t)
-    CHECK(s.textures.size() == 4);
+    CHECK(s.textures.size() == 5);  // wood.exr twice (two filters) + three checkerboards
     for (const auto& w : s.warnings) CHECK_FALSE(has(w, "other.exr"));
     REQUIRE(s.uvs.size() == s.positions.size());
     for (std::size_t i = 0; i < 4; ++i)  // size 1: corner (-0.5, -0.5), edges +x, +y

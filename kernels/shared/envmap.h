@@ -44,6 +44,7 @@
 #ifndef WP_ENVMAP_H
 #define WP_ENVMAP_H
 
+#include "sampling.h"
 #include "types.h"
 
 WP_NAMESPACE_BEGIN
@@ -114,19 +115,8 @@ WP_FN float3 wp_env_radiance(EnvLight env, float3 dir) {
     return wp_env_lookup(env, uv.x, uv.y) * wp_xyz(env.data.scale);
 }
 
-// The entry k of an inclusive CDF of n >= 1 entries whose interval [cdf[k-1], cdf[k]) holds
-// u: the first k with u < cdf[k] (binary search, as wp_light_pick).
-WP_FN int wp_env_pick(WP_GLOBAL const float* cdf, int n, float u) {
-    int lo = 0, hi = n - 1;
-    while (lo < hi) {
-        int mid = (lo + hi) / 2;
-        if (u < cdf[mid])
-            hi = mid;
-        else
-            lo = mid + 1;
-    }
-    return lo;
-}
+// The entry k of an inclusive CDF whose interval holds u (sampling.h wp_cdf_pick).
+WP_FN int wp_env_pick(WP_GLOBAL const float* cdf, int n, float u) { return wp_cdf_pick(cdf, n, u); }
 
 // The probability of entry k of an inclusive CDF: cdf[k] - cdf[k - 1].
 WP_FN float wp_env_pmf(WP_GLOBAL const float* cdf, int k) {

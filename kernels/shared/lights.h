@@ -14,23 +14,13 @@
 #ifndef WP_LIGHTS_H
 #define WP_LIGHTS_H
 
-#include "compat.h"
+#include "sampling.h"
 
 WP_NAMESPACE_BEGIN
 
 // The light whose CDF interval holds u in [0, 1): the first k with u < cdf[k] (binary
 // search; n >= 1).
-WP_FN int wp_light_pick(WP_GLOBAL const float* cdf, int n, float u) {
-    int lo = 0, hi = n - 1;
-    while (lo < hi) {
-        int mid = (lo + hi) / 2;
-        if (u < cdf[mid])
-            hi = mid;
-        else
-            lo = mid + 1;
-    }
-    return lo;
-}
+WP_FN int wp_light_pick(WP_GLOBAL const float* cdf, int n, float u) { return wp_cdf_pick(cdf, n, u); }
 
 // Barycentric weights (b1, b2) of a uniform point on a triangle from u1, u2 in [0, 1);
 // the point is (1 − b1 − b2) v0 + b1 v1 + b2 v2.

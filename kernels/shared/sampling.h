@@ -12,6 +12,21 @@
 
 WP_NAMESPACE_BEGIN
 
+// The entry k of an inclusive CDF of n >= 1 entries whose interval [cdf[k-1], cdf[k]) holds
+// u in [0, 1): the first k with u < cdf[k] (binary search). Light choice (lights.h) and the
+// environment's rows and columns (envmap.h) draw with it.
+WP_FN int wp_cdf_pick(WP_GLOBAL const float* cdf, int n, float u) {
+    int lo = 0, hi = n - 1;
+    while (lo < hi) {
+        int mid = (lo + hi) / 2;
+        if (u < cdf[mid])
+            hi = mid;
+        else
+            lo = mid + 1;
+    }
+    return lo;
+}
+
 #define WP_PI 3.14159265358979323846f
 #define WP_INV_PI 0.31830988618379067154f
 #define WP_INV_2PI 0.15915494309189533577f

@@ -45,7 +45,7 @@ void add_config_options(CLI::App* c, ConfigArgs& a) {
     c->add_option("--sampling", a.sampling,
                   "Estimator: uniform (the original: uniform hemisphere, no light sampling), "
                   "cosine (BSDF sampling only: cosine diffuse, GGX visible normals), nee "
-                  "(cosine + next-event estimation to emissive triangles) or mis (NEE and "
+                  "(cosine + next-event estimation to emissive triangles and the environment map) or mis (NEE and "
                   "BSDF sampling combined by the power heuristic; the default)")
         ->capture_default_str();
     c->add_option("--glossy", a.glossy,

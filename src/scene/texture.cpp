@@ -162,6 +162,8 @@ void check_file(const fs::path& path) {
     std::error_code ec;
     if (!fs::exists(path, ec)) refuse(path.string(), "no such file");
     if (fs::is_directory(path, ec)) refuse(path.string(), "it is a folder");
+    // A device or pipe (/dev/zero, a FIFO) would never end or never answer.
+    if (!fs::is_regular_file(path, ec)) refuse(path.string(), "not a regular file");
 }
 
 // Reader configuration: colour and alpha as stored. OIIO's readers otherwise premultiply
