@@ -222,8 +222,9 @@ TEST_CASE("appearance: smooth-shaded mirror and glass spheres match Mitsuba 3",
 // the rectangle, whose uv runs the other way. Model differences: [shading] (a terminator
 // softening, if any, acts on the steepest bump flanks only), [filter] (1.7x). Measured:
 // relMSE 3.5e-5 (bound 8.8e-4), 98.9 % of pixels pass; the ~50 that do not lie in the one
-// pixel column of each quad that straddles the map's sharp step, where a sub-texel
-// difference in the tangent frame (per-vertex here, per-face in Mitsuba) shows; hence 0.98.
+// pixel column of each quad that straddles the map's sharp step (cause not pinned down; the
+// mip level is ruled out: forcing level 0 changes nothing; a per-vertex vs per-face tangent
+// frame is the likeliest); hence 0.98.
 TEST_CASE("appearance: normal-mapped quads match Mitsuba 3", "[image][mitsuba]") {
     check_against_mitsuba({"normal-map", 256, 0.98, 5e-4}, [](const Scene& s) {
         INFO("the loader must read the normalmap BSDF's texture and give the quads uvs");
