@@ -6,7 +6,7 @@
 //         the scene in original triangle order: tris (vertices), material_ids, materials;
 //         background radiance; with WP_HAVE_NEE the light table (lights.h): light_cdf,
 //         light_prims, light_pdf_area, light_count; the appearance arrays of the features
-//         the scene has (else 4-byte placeholders): tri_normals (WP_HAVE_NORMALS), tri_uvs,
+//         the scene has (else one-element placeholders): tri_normals (WP_HAVE_NORMALS), tri_uvs,
 //         material_textures and the texture pool (WP_HAVE_TEXTURES), tri_tangents
 //         (WP_HAVE_NORMAL_MAPS), the environment env, env_texels, env_marginal,
 //         env_conditional and env_distance (WP_HAVE_ENV); cone_spread (the camera's spread
@@ -200,10 +200,10 @@ WP_FN int wp_shade_path(Ray ray, PathState path, Hit hit, WP_GLOBAL const Triang
     float3 n = normalize(cross(v1 - v0, v2 - v0));
     int front = dot(d, n) < 0.0f;
     float3 dn = normalize(d);
-    // The ray cone's width here (Akenine-Möller et al. 2021, constant spread).
-    float cone = path.cone + app.cone_spread * hit.t * length(d);
-
 #if WP_HAVE_TEXTURES
+    // The ray cone's width here (Akenine-Möller et al. 2021, constant spread): the texture
+    // footprint. Without textures the cone is not tracked (it stays 0).
+    float cone = path.cone + app.cone_spread * hit.t * length(d);
     MaterialTextures mt = app.material_textures[material_ids[hit.prim]];
     float2 uv = wp_hit_uv(app, hit.prim, hit.u, hit.v);
     float lod = wp_footprint_lod(app, hit.prim, v1 - v0, v2 - v0, cone, fabs(dot(dn, n)));
@@ -237,10 +237,10 @@ WP_FN int wp_shade_path(Ray ray, PathState path, Hit hit, WP_GLOBAL const Triang
     // on that side (ng itself without shading normals).
     float3 ng = front ? n : -n;
     float3 ns = ng;
+#if WP_HAVE_NORMALS
     // Chiang et al.'s terminator factor is for interpolated normals on coarse meshes; a
     // normal map's own shading is kept as authored (as Mitsuba 3 and pbrt-v4 render it).
     int terminator = 0;
-#if WP_HAVE_NORMALS
     {
         float3 nf = wp_interpolated_normal(app.normals[hit.prim], hit.u, hit.v, n);
         terminator = 1;
@@ -394,7 +394,9 @@ WP_FN int wp_shade_path(Ray ray, PathState path, Hit hit, WP_GLOBAL const Triang
     *next_path = path;
     // w: the density of wo; 0 marks a specular bounce (PathState).
     next_path->throughput = wp_float4(beta, specular ? 0.0f : pdf);
+#if WP_HAVE_TEXTURES
     next_path->cone = cone;
+#endif
     return 1;
 }
 

@@ -51,7 +51,7 @@ TEST_CASE("shadow: unoccluded segments add their contribution to their sample, o
     q.count = ocl::Array<int>::upload(dev, {n}, "shadow count");
     auto rad = ocl::Array<float4>::upload(dev, radiance, "radiance");
     auto total = ocl::Array<cl_ulong>::upload(dev, {cl_ulong(1000)}, "ray total");
-    render::ShadowStage stage(dev);
+    render::ShadowStage stage(dev, render::KernelConfig{});  // no alpha cut-outs
     // Launched past the queue length: the stage reads the length on the device.
     stage.enqueue(n + 100, q, bvh, rad, total);
     auto out = rad.read(dev);

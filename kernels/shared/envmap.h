@@ -115,8 +115,6 @@ WP_FN float3 wp_env_radiance(EnvLight env, float3 dir) {
     return wp_env_lookup(env, uv.x, uv.y) * wp_xyz(env.data.scale);
 }
 
-// The entry k of an inclusive CDF whose interval holds u (sampling.h wp_cdf_pick).
-WP_FN int wp_env_pick(WP_GLOBAL const float* cdf, int n, float u) { return wp_cdf_pick(cdf, n, u); }
 
 // The probability of entry k of an inclusive CDF: cdf[k] - cdf[k - 1].
 WP_FN float wp_env_pmf(WP_GLOBAL const float* cdf, int k) {
@@ -133,12 +131,12 @@ WP_FN float3 wp_env_sample(EnvLight env, float u1, float u2, float* pdf) {
     u2 = clamp(u2, 0.0f, WP_ENV_ONE_MINUS_EPS);
     // Row, then the cell within it; the remainder of each u, rescaled, places the
     // direction inside the cell.
-    int r = wp_env_pick(env.marginal, rows, u1);
+    int r = wp_cdf_pick(env.marginal, rows, u1);
     float row_lo = r > 0 ? env.marginal[r - 1] : 0.0f;
     float p_row = env.marginal[r] - row_lo;
     float dv = min((u1 - row_lo) / p_row, WP_ENV_ONE_MINUS_EPS);
     WP_GLOBAL const float* cond = env.conditional + r * w;
-    int c = wp_env_pick(cond, w, u2);
+    int c = wp_cdf_pick(cond, w, u2);
     float cell_lo = c > 0 ? cond[c - 1] : 0.0f;
     float p_cell = cond[c] - cell_lo;
     float du = min((u2 - cell_lo) / p_cell, WP_ENV_ONE_MINUS_EPS);

@@ -283,7 +283,8 @@ typedef struct PathState {
     int item;           // the sample's index within its wave: its radiance slot
     float cone;         // width of the ray cone at the ray's origin (world units, >= 0): the
                         // texture footprint (ray cones, Akenine-Möller et al. 2021); 0 at the
-                        // camera (a pinhole), grown by the pixel's spread angle per unit length
+                        // camera (a pinhole), grown by the pixel's spread angle per unit length;
+                        // tracked only when the scene has textures (else it stays 0)
 } PathState;
 
 // Accumulated sum of one film pixel: per channel a double-float pair (hi, lo) whose value

@@ -161,24 +161,6 @@ void check_scene_edits(const SceneEdits& e) {
 
 namespace {
 
-// Removes image `i` from the scene's textures when nothing else uses it, renumbering the
-// references to later images.
-void drop_unused_image(Scene& scene, int i) {
-    if (i < 0 || std::size_t(i) >= scene.textures.size()) return;
-    auto refs = [](Material& m) {
-        return std::array<TextureRef*, 5>{&m.albedo_map, &m.roughness_map, &m.emission_map,
-                                          &m.normal_map, &m.alpha_map};
-    };
-    for (Material& m : scene.materials)
-        for (TextureRef* r : refs(m))
-            if (r->image == i) return;
-    scene.textures.erase(scene.textures.begin() + i);
-    for (Material& m : scene.materials)
-        for (TextureRef* r : refs(m))
-            if (r->image > i) --r->image;
-    if (scene.environment && scene.environment->image > i) --scene.environment->image;
-}
-
 glm::mat3 rotate_y(double degrees) {
     return glm::mat3(glm::rotate(glm::mat4(1.0f), glm::radians(float(degrees)), glm::vec3(0, 1, 0)));
 }
@@ -188,9 +170,8 @@ glm::mat3 rotate_y(double degrees) {
 void apply_scene_edits(const SceneEdits& e, Scene& scene) {
     if (!e.env.empty()) {
         if (scene.environment) {
-            const int old = scene.environment->image;
             scene.environment.reset();
-            drop_unused_image(scene, old);
+            scene.prune_textures();  // the replaced map, unless a material uses it too
         }
         Environment env;
         env.image = add_texture_file(scene, e.env, TextureUse::Colour);

@@ -108,8 +108,9 @@ DeviceScene DeviceScene::upload(const ocl::Device& dev, const Scene& scene, cons
     st.env_bytes = env ? s.env_texels.bytes() + s.env_marginal.bytes() + s.env_conditional.bytes() : 0;
     // A shadow ray towards the environment leaves the scene's bounds from any point in them.
     Aabb b = scene.bounds();
-    float diag = b.empty() ? 1.0f : glm::length(b.hi - b.lo);
-    s.env_distance = 2.0f * std::max(diag, 1e-6f) + 1.0f;
+    // Twice the diagonal: no scene-size constant (a scene of one point gets 1).
+    float diag = b.empty() ? 0.0f : glm::length(b.hi - b.lo);
+    s.env_distance = diag > 0.0f && std::isfinite(diag) ? 2.0f * diag : 1.0f;
     // The spread of a pixel's cone: its angle at the image centre (Akenine-Möller et al.
     // 2021: atan(2 tan(vfov / 2) / height)).
     s.cone_spread = std::atan(2.0f * std::tan(glm::radians(scene.camera.vfov_deg) * 0.5f) /

@@ -44,9 +44,9 @@ Wavefront::Wavefront(ocl::Device& dev, const Scene& scene, const RenderSettings&
     HostSpan span("programs");
     queues_ = QueueUpkeep(dev, &profiler_);
     generate_ = GenerateStage(dev, config_, &profiler_);
-    intersect_ = IntersectStage(dev, settings.traversal, config_.trace_options(), &profiler_);
+    intersect_ = IntersectStage(dev, settings.traversal, config_, &profiler_);
     shade_ = ShadeStage(dev, config_, &profiler_);
-    if (config_.nee()) shadow_ = ShadowStage(dev, config_.trace_options(), &profiler_);
+    if (config_.nee()) shadow_ = ShadowStage(dev, config_, &profiler_);
     accumulate_ = AccumulateStage(dev, config_, settings.variance, &profiler_);
     scene_.stats.program_ms = prog_timer.ms();
     dev.queue.finish();

@@ -296,8 +296,6 @@ struct GltfTextures {
     std::string file;
     Notes& notes;
     std::map<std::pair<int, int>, int> loaded;     // (image, use) -> scene texture
-    std::map<std::pair<int, bool>, int> filtered;  // (scene texture, nearest) -> variant
-    std::vector<char> handed_out;                  // scene textures some slot uses
 
     // The scene texture of image `ii` for `use`, or -1 (with a warning) when it has no data.
     int image(int ii, TextureUse use, const std::string& where) {
@@ -378,7 +376,9 @@ struct GltfTextures {
         int image_index = image(tex.source, use, fmt::format("textures[{}]", index));
         if (image_index < 0) return std::nullopt;
         TextureRef r;
-        r.image = with_filter(image_index, nearest);
+        // The sampler's filter is this use's (an image loaded before with the other filter
+        // is copied; the copy nobody uses is pruned at the end).
+        r.image = texture_with_filter(scene, image_index, nearest);
 
         // KHR_texture_transform: offset, rotation, scale; texCoord overrides
         auto it = extensions.find("KHR_texture_transform");
@@ -416,28 +416,7 @@ struct GltfTextures {
                 ++notes.bad_transform;
         }
         if (tex_coord != 0) ++notes.texcoord;
-        handed_out.resize(scene.textures.size(), 0);
-        handed_out[std::size_t(r.image)] = 1;
         return r;
-    }
-
-    // The texture with the filter asked for: itself when it has it or no slot uses it yet,
-    // else a copy with the other filter (one per texture).
-    int with_filter(int index, bool nearest) {
-        handed_out.resize(scene.textures.size(), 0);
-        Texture& t = scene.textures[std::size_t(index)];
-        if (t.nearest == nearest) return index;
-        if (!handed_out[std::size_t(index)]) {
-            t.nearest = nearest;
-            return index;
-        }
-        auto key = std::make_pair(index, nearest);
-        if (auto it = filtered.find(key); it != filtered.end()) return it->second;
-        Texture copy = t;
-        copy.nearest = nearest;
-        scene.textures.push_back(std::move(copy));
-        filtered[key] = int(scene.textures.size() - 1);
-        return filtered[key];
     }
 };
 
@@ -670,7 +649,7 @@ Scene parse_gltf(std::string_view bytes, const fs::path& origin) {
     }
 
     Notes notes;
-    GltfTextures textures{model, scene, fs::path(base_dir), file, notes, {}, {}, {}};
+    GltfTextures textures{model, scene, fs::path(base_dir), file, notes, {}};
     constexpr std::uint32_t kUnset = ~0u, kCutOut = ~0u - 1;  // (ids past any real one)
     std::vector<std::uint32_t> mat_ids(model.materials.size(), kUnset);
     std::uint32_t default_id = kUnset;
@@ -968,6 +947,7 @@ Scene parse_gltf(std::string_view bytes, const fs::path& origin) {
     note(notes.quantized, "{} primitive(s) have non-float POSITION (quantized); skipped");
     note(notes.ortho, "{} orthographic camera(s) ignored");
 
+    scene.prune_textures();  // images whose only use asked for the other filter
     scene.camera = camera ? *camera : frame_bounds(scene.bounds(), file);
     scene.background = glm::vec3(0.0f);
     validate_scene(scene);

@@ -209,29 +209,6 @@ glm::vec3 fresnel_f0(glm::vec3 eta, glm::vec3 k) {
     return a / b;
 }
 
-// Drops the images no material and no environment uses (the sources of derived roughness and
-// opacity maps, textures of BSDFs no shape uses), renumbering the references.
-void prune_textures(Scene& s) {
-    std::vector<TextureRef*> refs;
-    for (Material& m : s.materials)
-        for (TextureRef* r :
-             {&m.albedo_map, &m.roughness_map, &m.emission_map, &m.normal_map, &m.alpha_map})
-            if (r->used()) refs.push_back(r);
-    std::vector<int> index(s.textures.size(), -1);
-    for (TextureRef* r : refs) index[std::size_t(r->image)] = 0;
-    if (s.environment && s.environment->image >= 0) index[std::size_t(s.environment->image)] = 0;
-    std::vector<Texture> kept;
-    for (std::size_t i = 0; i < s.textures.size(); ++i)
-        if (index[i] == 0) {
-            index[i] = int(kept.size());
-            kept.push_back(std::move(s.textures[i]));
-        }
-    for (TextureRef* r : refs) r->image = index[std::size_t(r->image)];
-    if (s.environment && s.environment->image >= 0)
-        s.environment->image = index[std::size_t(s.environment->image)];
-    s.textures = std::move(kept);
-}
-
 // --- The reader -----------------------------------------------------------------------------
 
 struct Obj {
@@ -2006,7 +1983,8 @@ Scene Reader::read() {
         note("no sensor", root,
              "no <sensor>: the camera frames the scene from +z (800 x 600, 40 degrees)");
     }
-    prune_textures(scene_);
+    scene_.prune_textures();  // the sources of derived roughness and opacity maps, textures of
+                              // BSDFs no shape uses
     for (const Note& nt : notes_)
         scene_.warnings.push_back(nt.count == 1 ? fmt::format("{}: {}", nt.where, nt.text)
                                                 : fmt::format("{}: {} ({} times; the first here)",

@@ -119,8 +119,7 @@ void Scene::append(const Scene& src, const glm::mat4& to_world,
         textures.insert(textures.end(), src.textures.begin(), src.textures.end());
         remap.reserve(src.materials.size());
         for (Material m : src.materials) {
-            for (TextureRef* r : {&m.albedo_map, &m.roughness_map, &m.emission_map, &m.normal_map,
-                                  &m.alpha_map})
+            for (TextureRef* r : m.maps())
                 if (r->used()) r->image += image_base;
             remap.push_back(add_material(m));
         }
@@ -151,6 +150,27 @@ void Scene::append(const Scene& src, const glm::mat4& to_world,
         material_ids.push_back(material ? *material : remap.at(src.material_ids[i]));
     }
     warnings.insert(warnings.end(), src.warnings.begin(), src.warnings.end());
+}
+
+void Scene::prune_textures() {
+    std::vector<TextureRef*> refs;
+    for (Material& m : materials)
+        for (TextureRef* r : m.maps())
+            if (r->used() && std::size_t(r->image) < textures.size()) refs.push_back(r);
+    const bool env = environment && environment->image >= 0 &&
+                     std::size_t(environment->image) < textures.size();
+    std::vector<int> index(textures.size(), -1);
+    for (TextureRef* r : refs) index[std::size_t(r->image)] = 0;
+    if (env) index[std::size_t(environment->image)] = 0;
+    std::vector<Texture> kept;
+    for (std::size_t i = 0; i < textures.size(); ++i)
+        if (index[i] == 0) {
+            index[i] = static_cast<int>(kept.size());
+            kept.push_back(std::move(textures[i]));
+        }
+    for (TextureRef* r : refs) r->image = index[std::size_t(r->image)];
+    if (env) environment->image = index[std::size_t(environment->image)];
+    textures = std::move(kept);
 }
 
 Camera camera_from_matrix(const glm::mat4& m, float vfov_deg, int width, int height) {

@@ -5,6 +5,7 @@
 // scene/upload converts it into the device layout. Nothing here knows about OpenCL.
 #pragma once
 
+#include <array>
 #include <cmath>
 #include <cstdint>
 #include <optional>
@@ -95,9 +96,17 @@ struct Material {
     float alpha_cutoff = 0.5f;
     // The material can be cut out: a coverage map, or a constant coverage below the cutoff.
     bool alpha_masked() const { return alpha_map.used() || alpha_factor < alpha_cutoff; }
+    // Every texture slot, for code that treats them alike (remapping, uploading).
+    std::array<const TextureRef*, 5> maps() const {
+        return {&albedo_map, &roughness_map, &emission_map, &normal_map, &alpha_map};
+    }
+    std::array<TextureRef*, 5> maps() {
+        return {&albedo_map, &roughness_map, &emission_map, &normal_map, &alpha_map};
+    }
     bool textured() const {
-        return albedo_map.used() || roughness_map.used() || emission_map.used() ||
-               normal_map.used() || alpha_map.used();
+        for (const TextureRef* r : maps())
+            if (r->used()) return true;
+        return false;
     }
     bool emissive() const { return emission.x > 0.0f || emission.y > 0.0f || emission.z > 0.0f; }
 };
@@ -168,6 +177,9 @@ struct Scene {
     // src's warnings are appended too; its camera, background and environment are ignored.
     void append(const Scene& src, const glm::mat4& to_world,
                 std::optional<std::uint32_t> material = std::nullopt);
+    // Drops the textures that no material slot and no environment refers to, renumbering
+    // the references (e.g. a replaced environment map, the source of a derived map).
+    void prune_textures();
 };
 
 // Camera from a camera-to-world matrix whose columns are the camera's axes: column 2 the

@@ -88,7 +88,7 @@ AppearanceUpload upload_appearance(const Scene& scene, const AppearanceNeeds& ne
         std::vector<int> slot(scene.textures.size(), -1);
         std::vector<const Texture*> used;
         for (const Material& m : scene.materials)
-            for (const TextureRef* r : {&m.albedo_map, &m.roughness_map, &m.emission_map, &m.normal_map, &m.alpha_map})
+            for (const TextureRef* r : m.maps())
                 if (r->used() && r->image < static_cast<int>(slot.size()) && slot[r->image] < 0) {
                     slot[r->image] = static_cast<int>(used.size());
                     used.push_back(&scene.textures[r->image]);

@@ -8,12 +8,13 @@ const char* traversal_name(Traversal t) {
     return t == Traversal::Stack ? "stack" : "stackless";
 }
 
-IntersectStage::IntersectStage(const ocl::Device& dev, Traversal traversal, const std::string& options,
+IntersectStage::IntersectStage(const ocl::Device& dev, Traversal traversal, const KernelConfig& config,
                                ocl::Profiler* profiler)
-    : target_{&dev.queue, profiler}, program_(ocl::Program::build(dev, "intersect.cl", options)),
+    : target_{&dev.queue, profiler},
+      program_(ocl::Program::build(dev, "intersect.cl", config.trace_options())),
       kernel_(program_, traversal == Traversal::Stack ? "intersect_closest_stack" : "intersect_closest",
               "intersect.closest"),
-      alpha_(options.find("WP_HAVE_ALPHA_MASK=1") != std::string::npos) {}
+      alpha_(config.alpha_mask) {}
 
 ::cl::Event IntersectStage::enqueue(std::size_t launch, const PathQueue& queue,
                                     const bvh::DeviceBvh& bvh, const ocl::Array<Hit>& hits,

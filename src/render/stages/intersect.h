@@ -4,6 +4,7 @@
 #include "bvh/device_bvh.h"
 #include "render/device_scene.h"
 #include "render/frame_state.h"
+#include "render/kernel_config.h"
 
 namespace wp::render {
 
@@ -19,8 +20,8 @@ const char* traversal_name(Traversal t);
 class IntersectStage {
   public:
     IntersectStage() = default;
-    // `options`: KernelConfig::trace_options() (alpha cut-outs).
-    IntersectStage(const ocl::Device& dev, Traversal traversal, const std::string& options = "",
+    // Built with the config's trace slice (alpha cut-outs, KernelConfig::trace_options()).
+    IntersectStage(const ocl::Device& dev, Traversal traversal, const KernelConfig& config,
                    ocl::Profiler* profiler = nullptr);
 
     // intersect_closest(_stack): hits[i] for every queued ray i < queue.count[0]. `launch`

@@ -4,10 +4,10 @@
 
 namespace wp::render {
 
-ShadowStage::ShadowStage(const ocl::Device& dev, const std::string& options, ocl::Profiler* profiler)
-    : target_{&dev.queue, profiler}, program_(ocl::Program::build(dev, "shadow.cl", options)),
-      kernel_(program_, "shadow_trace", "shadow"),
-      alpha_(options.find("WP_HAVE_ALPHA_MASK=1") != std::string::npos) {}
+ShadowStage::ShadowStage(const ocl::Device& dev, const KernelConfig& config, ocl::Profiler* profiler)
+    : target_{&dev.queue, profiler},
+      program_(ocl::Program::build(dev, "shadow.cl", config.trace_options())),
+      kernel_(program_, "shadow_trace", "shadow"), alpha_(config.alpha_mask) {}
 
 ::cl::Event ShadowStage::enqueue(std::size_t launch, const ShadowQueue& shadow,
                                  const bvh::DeviceBvh& bvh, const ocl::Array<float4>& radiance,

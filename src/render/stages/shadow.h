@@ -5,14 +5,15 @@
 #include "bvh/device_bvh.h"
 #include "render/device_scene.h"
 #include "render/frame_state.h"
+#include "render/kernel_config.h"
 
 namespace wp::render {
 
 class ShadowStage {
   public:
     ShadowStage() = default;
-    // `options`: KernelConfig::trace_options() (alpha cut-outs).
-    ShadowStage(const ocl::Device& dev, const std::string& options = "", ocl::Profiler* profiler = nullptr);
+    // Built with the config's trace slice (alpha cut-outs, KernelConfig::trace_options()).
+    ShadowStage(const ocl::Device& dev, const KernelConfig& config, ocl::Profiler* profiler = nullptr);
 
     // shadow_trace: for every queued shadow ray without a hit, radiance[item] += contrib;
     // adds the queue length to ray_total.
