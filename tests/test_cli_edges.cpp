@@ -262,6 +262,15 @@ TEST_CASE("cli edges: --env needs an existing file; --env-scale/--env-rotate nee
     CHECK(missing.status == 1);
     CHECK(has(missing.err, "wavepath: error: --env 'nowhere.exr': file not found"));
     CHECK(d.empty_of_images());
+    // A file that is there but does not decode: an error too (no placeholder sky)
+    d.write("bad.hdr", "not an image");
+    Run garbage = run_cli(d, "--env bad.hdr --spp 1 --size 8x6 -o out.exr");
+    INFO(garbage.err);
+    CHECK(garbage.status == 1);
+    CHECK(has(garbage.err, "wavepath: error:"));
+    CHECK(has(garbage.err, "bad.hdr"));
+    CHECK(!has(garbage.err, "placeholder"));
+    CHECK(d.empty_of_images());
     // The built-in box has no environment map to scale or turn: a usage error
     Run scale = run_cli(d, "--env-scale 2 --spp 1 --size 8x6 -o out.exr");
     INFO(scale.err);

@@ -174,7 +174,10 @@ void apply_scene_edits(const SceneEdits& e, Scene& scene) {
             scene.prune_textures();  // the replaced map, unless a material uses it too
         }
         Environment env;
-        env.image = add_texture_file(scene, e.env, TextureUse::Colour);
+        // Asked for by name: a file that does not decode is an error (exit 1), not the
+        // placeholder a texture named inside a scene file gets.
+        scene.textures.push_back(load_texture(e.env, TextureUse::Colour, scene.warnings));
+        env.image = static_cast<int>(scene.textures.size() - 1);
         env.scale = float(e.env_scale);
         env.to_world = rotate_y(e.env_rotate);
         scene.environment = env;
