@@ -126,6 +126,7 @@ WP_FN MaterialData wp_textured_material(MaterialData m, MaterialTextures mt, Tex
     if (mt.roughness >= 0) {
         float g = wp_texture_view(pool, mt.roughness, uv, lod).y;
         m.alpha = max(m.alpha * g * g, 1e-4f);
+        m.alpha_v = max(m.alpha_v * g * g, 1e-4f);  // (= alpha when isotropic)
     }
     if (mt.emission >= 0) {
         float4 c = wp_texture_view(pool, mt.emission, uv, lod);
