@@ -12,8 +12,10 @@
 // or separable G1(wo) G1(wi) (Mitsuba 3), per material (WP_MF_SEPARABLE_G).
 // Visible normals (density D_w(h) = G1(w) max(0, w·h) D(h) / w_z): GGX by Heitz 2018
 // ("Sampling the GGX Distribution of Visible Normals", JCGT 7(4)), Beckmann by the
-// stretch-and-sample-slopes method (Heitz & d'Eon 2014) with Jakob's 2014 slope sampler
-// (which Mitsuba 3 uses).
+// stretch-and-sample-slopes method (Heitz & d'Eon 2014) with Jakob's 2014 slope sampler (the
+// bisection-safeguarded Newton inversion of Mitsuba 0.5; Mitsuba 3 runs three plain Newton
+// steps from another first guess: the same density). Tests: tests/test_materials_conductor.cpp;
+// models, energy and the comparison with Mitsuba 3: docs/materials.md.
 #ifndef WP_MICROFACET_H
 #define WP_MICROFACET_H
 
