@@ -55,9 +55,17 @@ void validate_scene(const Scene& scene) {
             fail("scene '{}': material {} ('{}') has emission ({}, {}, {}), which must be finite "
                  "and >= 0",
                  name, i, m.name, e.x, e.y, e.z);
-        if (uses_alpha(m.kind) && !(m.alpha > 0.0f && m.alpha <= 1.0f))
+        if (m.kind == MaterialKind::Glossy && !(m.alpha > 0.0f && m.alpha <= 1.0f))
             fail("scene '{}': material {} ('{}') has roughness alpha {}, which must be in (0, 1]",
                  name, i, m.name, m.alpha);
+        // The rough kinds: α (α_u) and α_v in [1e-4, 2] (util/limits.h)
+        if (uses_alpha(m.kind) && m.kind != MaterialKind::Glossy)
+            for (float a : {m.alpha, m.alpha_v.value_or(m.alpha)})
+                if (!(a >= limits::kMinMicrofacetAlpha && a <= limits::kMaxMicrofacetAlpha))
+                    fail("scene '{}': material {} ('{}') has roughness alpha {}, which must be in "
+                         "[{}, {}]",
+                         name, i, m.name, a, limits::kMinMicrofacetAlpha,
+                         limits::kMaxMicrofacetAlpha);
     }
 
     // Camera: a film, a direction, a field of view
