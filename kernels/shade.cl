@@ -65,6 +65,9 @@
 #ifndef WP_HAVE_ENV
 #define WP_HAVE_ENV 0
 #endif
+#ifndef WP_HAVE_ANISOTROPY
+#define WP_HAVE_ANISOTROPY 0
+#endif
 
 // The light arrays of shade_surface, bundled for the helpers.
 typedef struct LightTable {
@@ -133,6 +136,19 @@ WP_FN MaterialData wp_textured_material(MaterialData m, MaterialTextures mt, Tex
         m.emission = make_float4(m.emission.x * c.x, m.emission.y * c.y, m.emission.z * c.z, 0.0f);
     }
     return m;
+}
+#endif
+
+#if WP_HAVE_ANISOTROPY
+// dp/du of a triangle with edges e1 = p1 − p0, e2 = p2 − p0 and uvs t; e1 (dp/du of the
+// uvs (0, 0), (1, 0), (0, 1)) where the uvs are degenerate.
+WP_FN float3 wp_triangle_dpdu(float3 e1, float3 e2, TriUVs t) {
+    float du1 = t.uv01.z - t.uv01.x, dv1 = t.uv01.w - t.uv01.y;
+    float du2 = t.uv2.x - t.uv01.x, dv2 = t.uv2.y - t.uv01.y;
+    float det = du1 * dv2 - dv1 * du2;
+    if (!(fabs(det) > 0.0f)) return e1;
+    float3 d = (e1 * dv2 - e2 * dv1) * (1.0f / det);
+    return wp_all_finite3(d) ? d : e1;
 }
 #endif
 
@@ -260,6 +276,18 @@ WP_FN int wp_shade_path(Ray ray, PathState path, Hit hit, WP_GLOBAL const Triang
         // Failure mode 1 (shading.h): always where the viewer sees the back of ns; for
         // lobes around the mirror direction also where that direction falls below.
         if (m.kind != WP_MATERIAL_DIFFUSE || dot(-dn, ns) <= 0.0f) ns = wp_bend_normal(ns, ng, -dn);
+    }
+#endif
+#if WP_HAVE_ANISOTROPY
+    // Anisotropic roughness runs along dp/du (from the uvs; p1 − p0 where they are
+    // degenerate or absent, as Mitsuba 3 and pbrt-v4 do), given to the BSDF as its direction
+    // in the local frame of ns (microfacet.h).
+    if (m.alpha != m.alpha_v) {
+        float3 t = wp_triangle_dpdu(v1 - v0, v2 - v0, app.uvs[hit.prim]);
+        float3 tx, ty;
+        wp_onb(ns, &tx, &ty);
+        float c = dot(t, tx), s = dot(t, ty), l = sqrt(c * c + s * s);
+        if (l > 0.0f) m.aniso_cos = c / l, m.aniso_sin = s / l;
     }
 #endif
     float3 perr;

@@ -1,9 +1,11 @@
 // microfacet.h — the microfacet distributions of the rough material kinds (roughconductor,
 // roughdielectric, roughplastic) and the conductor Fresnel term.
 //
-// Local frame: +z is the (shading) normal, x is wp_onb(n)'s t (sampling.h; Duff et al. 2017,
-// which is Mitsuba 3's coordinate_system, so anisotropic roughness runs along the same axes as
-// Mitsuba's on meshes without uvs). Distributions, anisotropic with widths α_x, α_y:
+// Local frame: +z is the (shading) normal, x is wp_onb(n)'s t (sampling.h). Anisotropic
+// roughness runs along the surface's dp/du projected onto the shading plane (Mitsuba 3's and
+// pbrt-v4's shading frame: dp/du from the uvs, p1 − p0 on meshes without uvs), which the
+// shade stage gives as (cos, sin) in the local frame (MaterialData.aniso_cos/_sin).
+// Distributions, anisotropic with widths α_x, α_y:
 //   GGX (Trowbridge-Reitz): D(h) = 1 / (π α_x α_y (h_x²/α_x² + h_y²/α_y² + h_z²)²),
 //     Λ(w) = (−1 + sqrt(1 + (α_x² w_x² + α_y² w_y²) / w_z²)) / 2 (Walter et al. 2007; Heitz 2014);
 //   Beckmann: D(h) = exp(−(h_x²/α_x² + h_y²/α_y²) / h_z²) / (π α_x α_y h_z⁴),
@@ -25,10 +27,13 @@
 WP_NAMESPACE_BEGIN
 
 // A material's distribution: widths along x and y, Beckmann or GGX, separable G or not.
+// An anisotropic distribution's axes: α_x runs along (c, s) of the local frame (shade sets
+// MaterialData.aniso_cos/_sin per hit to the surface's dp/du; (1, 0) otherwise).
 typedef struct Microfacet {
     float ax, ay;
     int beckmann;
     int separable;
+    float c, s;
 } Microfacet;
 
 WP_FN Microfacet wp_microfacet(MaterialData m) {
@@ -37,12 +42,27 @@ WP_FN Microfacet wp_microfacet(MaterialData m) {
     mf.ay = m.alpha_v;
     mf.beckmann = (m.flags & WP_MF_BECKMANN) != 0;
     mf.separable = (m.flags & WP_MF_SEPARABLE_G) != 0;
+    int axes = m.alpha != m.alpha_v && (m.aniso_cos != 0.0f || m.aniso_sin != 0.0f);
+    mf.c = axes ? m.aniso_cos : 1.0f;
+    mf.s = axes ? m.aniso_sin : 0.0f;
     return mf;
+}
+
+// A local direction in the distribution's axes, and back (rotations about z; isotropic
+// distributions skip them, their D and Λ do not depend on the azimuth).
+WP_FN float3 wp_mf_to_axes(Microfacet mf, float3 v) {
+    if (mf.ax == mf.ay) return v;
+    return make_float3(mf.c * v.x + mf.s * v.y, mf.c * v.y - mf.s * v.x, v.z);
+}
+WP_FN float3 wp_mf_from_axes(Microfacet mf, float3 v) {
+    if (mf.ax == mf.ay) return v;
+    return make_float3(mf.c * v.x - mf.s * v.y, mf.s * v.x + mf.c * v.y, v.z);
 }
 
 // D(h): microfacet normals per steradian per unit projected area; 0 for h_z <= 0.
 WP_FN float wp_mf_d(Microfacet mf, float3 h) {
     if (!(h.z > 0.0f)) return 0.0f;
+    h = wp_mf_to_axes(mf, h);
     float x = h.x / mf.ax, y = h.y / mf.ay;
     float z2 = h.z * h.z;
     if (mf.beckmann) {
@@ -57,6 +77,7 @@ WP_FN float wp_mf_d(Microfacet mf, float3 h) {
 // Smith Λ(w); FLT_MAX at or below the horizon.
 WP_FN float wp_mf_lambda(Microfacet mf, float3 w) {
     if (!(w.z != 0.0f)) return FLT_MAX;
+    w = wp_mf_to_axes(mf, w);
     float ax = mf.ax * w.x, ay = mf.ay * w.y;
     float t2 = (ax * ax + ay * ay) / (w.z * w.z);  // (α tan θ)² along w's azimuth
     if (!mf.beckmann) return 0.5f * (-1.0f + sqrt(1.0f + t2));
@@ -140,6 +161,7 @@ WP_FN float2 wp_beckmann_sample_slope11(float cos_theta, float sin_theta, float 
 
 // A microfacet normal h with density D_w(h) = G1(w) max(0, w·h) D(h) / w_z (w_z > 0).
 WP_FN float3 wp_mf_sample_vndf(Microfacet mf, float3 w, float u1, float u2) {
+    w = wp_mf_to_axes(mf, w);
     // Stretch the direction to the unit-width configuration.
     float3 wh = normalize(make_float3(mf.ax * w.x, mf.ay * w.y, w.z));
     if (mf.beckmann) {
@@ -150,7 +172,7 @@ WP_FN float3 wp_mf_sample_vndf(Microfacet mf, float3 w, float u1, float u2) {
         float2 s = wp_beckmann_sample_slope11(wh.z, sin_t, u1, u2);
         float sx = (cphi * s.x - sphi * s.y) * mf.ax;
         float sy = (sphi * s.x + cphi * s.y) * mf.ay;
-        return normalize(make_float3(-sx, -sy, 1.0f));
+        return wp_mf_from_axes(mf, normalize(make_float3(-sx, -sy, 1.0f)));
     }
     // GGX: Heitz 2018, listing 1.
     float lensq = wh.x * wh.x + wh.y * wh.y;
@@ -164,7 +186,7 @@ WP_FN float3 wp_mf_sample_vndf(Microfacet mf, float3 w, float u1, float u2) {
     float s = 0.5f * (1.0f + wh.z);
     p2 = (1.0f - s) * sqrt(max(0.0f, 1.0f - p1 * p1)) + s * p2;
     float3 nh = t1 * p1 + t2 * p2 + wh * sqrt(max(0.0f, 1.0f - p1 * p1 - p2 * p2));
-    return normalize(make_float3(mf.ax * nh.x, mf.ay * nh.y, max(1e-6f, nh.z)));
+    return wp_mf_from_axes(mf, normalize(make_float3(mf.ax * nh.x, mf.ay * nh.y, max(1e-6f, nh.z))));
 }
 
 // The density of wp_mf_sample_vndf: D_w(h) = G1(w) max(0, w·h) D(h) / w_z.

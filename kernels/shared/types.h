@@ -206,8 +206,9 @@ typedef struct MaterialData {
     int flags;        // WP_MF_BECKMANN | WP_MF_SEPARABLE_G | WP_PLASTIC_NONLINEAR
     int table;        // roughplastic: first float of its tables in the material-table buffer;
                       // -1 otherwise
-    int pad0;         // 0
-    int pad1;         // 0
+    float aniso_cos;  // anisotropic rough kinds, per hit (shade, WP_HAVE_ANISOTROPY): the
+    float aniso_sin;  // direction of α_u in the local frame of the shading normal
+                      // (microfacet.h); 0, 0 in the material buffer
 } MaterialData;
 
 // ===================================================================================

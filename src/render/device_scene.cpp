@@ -75,7 +75,7 @@ DeviceScene DeviceScene::upload(const ocl::Device& dev, const Scene& scene, cons
     // Appearance: only what the kernels were configured for (KernelConfig::from_scene).
     AppearanceNeeds needs;
     needs.normals = config.normals;
-    needs.uvs = config.textures || config.alpha_mask;
+    needs.uvs = config.textures || config.alpha_mask || config.anisotropic;
     needs.tangents = config.normal_maps;
     needs.env = config.env;
     AppearanceUpload app = upload_appearance(scene, needs);

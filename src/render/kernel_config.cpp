@@ -51,6 +51,7 @@ KernelConfig KernelConfig::from_scene(const Scene& scene, const Estimator& estim
         c.textures |= m.textured();  // a scene without uvs reads texel (0, 0)
         c.normal_maps |= m.normal_map.used();
         c.alpha_mask |= m.alpha_masked();
+        c.anisotropic |= m.anisotropic();
     }
     for (const glm::vec3& n : scene.normals)
         if (n != glm::vec3(0.0f)) {
@@ -93,6 +94,7 @@ std::string KernelConfig::shade_options() const {
     if (textures) o += " -D WP_HAVE_TEXTURES=1";
     if (normal_maps) o += " -D WP_HAVE_NORMAL_MAPS=1";
     if (env) o += " -D WP_HAVE_ENV=1";
+    if (anisotropic) o += " -D WP_HAVE_ANISOTROPY=1";
     return o + inject_options();
 }
 

@@ -60,6 +60,7 @@ struct KernelConfig {
     bool alpha_mask = false;   // some material is cut out (WP_HAVE_ALPHA_MASK: intersect, shadow)
     bool env = false;          // the scene has an environment map (WP_HAVE_ENV)
     bool lens = false;         // the camera has a thin lens (WP_HAVE_LENS; generate only)
+    bool anisotropic = false;  // some rough material has α_v != α (WP_HAVE_ANISOTROPY; uvs too)
     Estimator estimator;
     // Debug (render --debug-nan): WP_INJECT_* stage bits (kernels/shared/types.h) whose
     // guards get a NaN for every pixel p with p % inject_period == 0; 0 compiles nothing.

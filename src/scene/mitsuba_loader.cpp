@@ -1671,7 +1671,7 @@ void Reader::add_geometry(pugi::xml_node n, ShapeGeometry g, const glm::dmat4& m
     }
     if ((glm::determinant(linear) < 0.0) != flip)
         for (auto& t : g.triangles) std::swap(t.y, t.z);
-    if (!scene_.materials[material].textured()) g.uvs.clear();
+    if (!scene_.materials[material].textured() && !scene_.materials[material].anisotropic()) g.uvs.clear();
     // Normal maps in Mitsuba's frame: x along dp/du, y = n × x whatever the uvs' handedness
     // (wavepath's default follows the uvs, MikkTSpace-like): tangents dp/du with w = +1
     std::vector<glm::vec4> tangents;
@@ -1871,7 +1871,8 @@ void Reader::read_shape(pugi::xml_node n) {
         finish(e);
     }
     const std::uint32_t material = shape_material(o, emission, emission_map);
-    const bool textured = scene_.materials[material].textured();
+    // uvs are kept where a texture or anisotropic roughness (axes along dp/du) reads them
+    const bool textured = scene_.materials[material].textured() || scene_.materials[material].anisotropic();
 
     // The geometry in the shape's own space
     ShapeGeometry g;

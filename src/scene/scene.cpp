@@ -65,6 +65,10 @@ bool uses_eta_k(MaterialKind k) {
     return i && i->etak;
 }
 
+bool Material::anisotropic() const {
+    return uses_alpha(kind) && kind != MaterialKind::Glossy && alpha_v && *alpha_v != alpha;
+}
+
 Aabb Scene::bounds() const {
     Aabb b;
     for (const auto& t : triangles)

@@ -128,6 +128,9 @@ struct Material {
             if (r->used()) return true;
         return false;
     }
+    // Anisotropic roughness (a rough kind with α_v != α): its axes follow dp/du, so the
+    // mesh's uvs matter even without textures (kernels/shared/microfacet.h).
+    bool anisotropic() const;
     bool emissive() const { return emission.x > 0.0f || emission.y > 0.0f || emission.z > 0.0f; }
 };
 

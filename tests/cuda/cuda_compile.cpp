@@ -52,7 +52,7 @@ const std::string kShipped = render::KernelConfig{}.shade_options();
 // the environment, alpha cut-outs), from the renderer's own option strings.
 const std::string kAppearance = [] {
     render::KernelConfig c;
-    c.normals = c.textures = c.normal_maps = c.env = c.alpha_mask = true;
+    c.normals = c.textures = c.normal_maps = c.env = c.alpha_mask = c.anisotropic = true;
     return c.shade_options() + " " + c.trace_options();
 }();
 // The generate stage with a thin-lens camera (WP_HAVE_LENS), from the renderer's own string.
