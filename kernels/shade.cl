@@ -128,6 +128,7 @@ WP_FN MaterialData wp_textured_material(MaterialData m, MaterialTextures mt, Tex
     if (mt.roughness >= 0) {
         float g = wp_texture_view(pool, mt.roughness, uv, lod).y;
         m.alpha = max(m.alpha * g * g, 1e-4f);
+        m.alpha_v = max(m.alpha_v * g * g, 1e-4f);  // (= alpha when isotropic)
     }
     if (mt.emission >= 0) {
         float4 c = wp_texture_view(pool, mt.emission, uv, lod);
@@ -350,13 +351,14 @@ WP_FN int wp_shade_path(Ray ray, PathState path, Hit hit, WP_GLOBAL const Triang
             } else if (wp_max_component(c) > 0.0f) {
                 // From the origin offset to the geometric side the light is on (below the
                 // surface: a transmission). Towards the environment: a segment beyond the
-                // scene; to a triangle: to the light point offset to its front (hits need
-                // 0 < t < 1).
+                // scene (hits need 0 < t < 1); to a triangle: towards the light point, ending
+                // short of the light by the error of the segment's own triangle tests
+                // (offset.h).
                 float3 so = dot(wi, ng) > 0.0f ? org : wp_offset_ray_origin(p, perr, -ng, tri_offset);
-                float3 sd = env_sample ? wi * app.env_distance
-                                       : wp_offset_ray_origin(y, yerr, ln, wp_triangle_offset(l0, l1, l2)) - so;
+                float3 sd = env_sample ? wi * app.env_distance : y - so;
+                float tmax = env_sample ? 1.0f : wp_shadow_tmax(sd, yerr, ln, wp_triangle_offset(l0, l1, l2));
                 shadow_ray->org = make_float4(so.x, so.y, so.z, 0.0f);
-                shadow_ray->dir = make_float4(sd.x, sd.y, sd.z, 1.0f);
+                shadow_ray->dir = make_float4(sd.x, sd.y, sd.z, tmax);
                 *contrib = wp_float4(c, 0.0f);
                 *shadow = 1;
             }

@@ -53,6 +53,13 @@ constexpr double kMaxEnvScale = 1e6;
 constexpr double kMaxEnvRotateDeg = 360.0;
 constexpr double kMaxCreaseDeg = 180.0;
 
+// Microfacet roughness α of the rough material kinds (roughconductor, roughdielectric,
+// roughplastic; not the glossy kind, which takes (0, 1]): [kMinMicrofacetAlpha,
+// kMaxMicrofacetAlpha] (issue 14's contract). Loaders map a smaller α to the smooth kind and
+// clamp a larger one, each with a note.
+constexpr float kMinMicrofacetAlpha = 1e-4f;
+constexpr float kMaxMicrofacetAlpha = 2.0f;
+
 // The estimator's defaults (sampling, glossy model, sampler, Russian roulette) are
 // kernels/shared/estimator.h's, read by the kernels and render::Estimator alike.
 
