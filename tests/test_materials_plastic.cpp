@@ -344,3 +344,24 @@ TEST_CASE("plastic and roughplastic: white furnace E(θ) equals the closed form 
             }
         }
 }
+
+TEST_CASE("plastic: Mitsuba's specular sampling weight from the means of both reflectances",
+          "[unit][plastic]") {
+    Material m;
+    m.kind = MaterialKind::Plastic;
+    m.albedo = glm::vec3(0.2f, 0.4f, 0.6f);
+    m.specular = glm::vec3(1.0f, 0.5f, 0.0f);
+    CHECK(plastic_specular_weight(m, {}) == Approx(0.5 / (0.4 + 0.5)).epsilon(1e-6));
+    // An albedo texture scales the diffuse mean by the mean of its linear texels: 8-bit sRGB
+    // 128 is (128/255 + 0.055)^2.4 / 1.055^2.4 = 0.21586 linear.
+    Texture t;
+    t.width = t.height = 2;
+    t.srgb = true;
+    t.texels8.assign(16, 128);
+    m.albedo_map.image = 0;
+    double lin = std::pow((128.0 / 255.0 + 0.055) / 1.055, 2.4);
+    CHECK(plastic_specular_weight(m, {t}) == Approx(0.5 / (0.4 * lin + 0.5)).epsilon(1e-6));
+    m.albedo = glm::vec3(0.0f);
+    m.specular = glm::vec3(0.0f);
+    CHECK(plastic_specular_weight(m, {}) == 0.5f);  // both black: either lobe
+}
