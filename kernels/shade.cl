@@ -4,6 +4,8 @@
 // shade_surface
 // reads   rays_in[i], paths_in[i], hits[i] for i < count_in[0] (the queue of this bounce);
 //         the scene in original triangle order: tris (vertices), material_ids, materials;
+//         material_tables (the per-material tables some kinds read at MaterialData.table,
+//         scene/material_tables.h; a one-float placeholder when no material has any);
 //         background radiance; with WP_HAVE_NEE the light table (lights.h): light_cdf,
 //         light_prims, light_pdf_area, light_count; the appearance arrays of the features
 //         the scene has (else one-element placeholders): tri_normals (WP_HAVE_NORMALS), tri_uvs,
@@ -165,8 +167,9 @@ WP_FN void wp_add_radiance(WP_GLOBAL float4* radiance, int item, float3 v, WP_GL
 // a shadow ray.
 WP_FN int wp_shade_path(Ray ray, PathState path, Hit hit, WP_GLOBAL const Triangle* tris,
                         WP_GLOBAL const int* material_ids, WP_GLOBAL const MaterialData* materials,
-                        float4 background, LightTable lights, Appearance app, uint seed,
-                        int bounce, int max_depth, WP_GLOBAL float4* radiance,
+                        WP_GLOBAL const float* material_tables, float4 background,
+                        LightTable lights, Appearance app, uint seed, int bounce, int max_depth,
+                        WP_GLOBAL float4* radiance,
                         WP_GLOBAL int* counters, Ray* next_ray, PathState* next_path,
                         int* shadow, Ray* shadow_ray, float4* contrib) {
     float3 beta = wp_xyz(path.throughput);
@@ -336,15 +339,18 @@ WP_FN int wp_shade_path(Ray ray, PathState path, Hit hit, WP_GLOBAL const Triang
             lbl = bl;
 #endif
         }
-        // Light on the geometric side of arrival only (a reflection; failure mode 2).
-        // (Without shading normals ns = ng, and the BSDF's own cosine test is that test.)
+        // Light on the geometric side the BSDF lobe is on only: above for a reflection,
+        // below for a transmission (failure mode 2). The BSDF itself returns zero below the
+        // surface unless the kind transmits. (Without shading normals ns = ng, and the
+        // BSDF's own cosine test is that test.)
         float bsdf_pdf = 0.0f;
 #if WP_HAVE_NORMALS
         float3 fcos = make_float3(0.0f, 0.0f, 0.0f);
-        if (dot(wi, ng) > 0.0f) fcos = wp_bsdf_eval(m, dn, ns, wi, &bsdf_pdf);
+        if (wp_same_side(wi, ns, ng))
+            fcos = wp_bsdf_eval(m, material_tables, dn, ns, front, wi, &bsdf_pdf);
         if (terminator) fcos = fcos * wp_terminator_factor(ng, ns, wi);  // failure mode 3
 #else
-        float3 fcos = wp_bsdf_eval(m, dn, ns, wi, &bsdf_pdf);
+        float3 fcos = wp_bsdf_eval(m, material_tables, dn, ns, front, wi, &bsdf_pdf);
 #endif
         if (p_light > 0.0f && wp_max_component(fcos) > 0.0f) {
             float w = 1.0f;
@@ -371,12 +377,15 @@ WP_FN int wp_shade_path(Ray ray, PathState path, Hit hit, WP_GLOBAL const Triang
             if (!wp_all_finite3(c)) {
                 wp_atomic_inc(&counters[WP_COUNTER_SHADE_NONFINITE]);
             } else if (wp_max_component(c) > 0.0f) {
-                // Towards the environment: a segment beyond the scene (hits need 0 < t < 1);
-                // to a triangle: from the offset origin towards the light point, ending short
-                // of the light by the error of the segment's own triangle tests (offset.h).
-                float3 sd = env_sample ? wi * app.env_distance : y - org;
+                // From the origin offset to the geometric side the light is on (below the
+                // surface: a transmission). Towards the environment: a segment beyond the
+                // scene (hits need 0 < t < 1); to a triangle: towards the light point, ending
+                // short of the light by the error of the segment's own triangle tests
+                // (offset.h).
+                float3 so = dot(wi, ng) > 0.0f ? org : wp_offset_ray_origin(p, perr, -ng, tri_offset);
+                float3 sd = env_sample ? wi * app.env_distance : y - so;
                 float tmax = env_sample ? 1.0f : wp_shadow_tmax(sd, yerr, ln, wp_triangle_offset(l0, l1, l2));
-                shadow_ray->org = make_float4(org.x, org.y, org.z, 0.0f);
+                shadow_ray->org = make_float4(so.x, so.y, so.z, 0.0f);
                 shadow_ray->dir = make_float4(sd.x, sd.y, sd.z, tmax);
                 *contrib = wp_float4(c, 0.0f);
                 *shadow = 1;
@@ -390,7 +399,8 @@ WP_FN int wp_shade_path(Ray ray, PathState path, Hit hit, WP_GLOBAL const Triang
     float3 wo, weight;
     float pdf;
     int specular;
-    if (!wp_bsdf_sample_pdf(m, dn, ns, front, u, &wo, &weight, &pdf, &specular)) return 0;
+    if (!wp_bsdf_sample_pdf(m, material_tables, dn, ns, front, u, &wo, &weight, &pdf, &specular))
+        return 0;
     if (!specular && !(pdf > 0.0f)) return 0;  // a zero-density draw (measure zero): absorbed
 #if WP_HAVE_NORMALS
     // A reflection below the geometric surface or a transmission that stays above it is
@@ -436,7 +446,8 @@ WP_FN int wp_shade_path(Ray ray, PathState path, Hit hit, WP_GLOBAL const Triang
 WP_KERNEL void shade_surface(WP_GLOBAL const Ray* rays_in, WP_GLOBAL const PathState* paths_in,
                              WP_GLOBAL const int* count_in, WP_GLOBAL const Hit* hits,
                              WP_GLOBAL const Triangle* tris, WP_GLOBAL const int* material_ids,
-                             WP_GLOBAL const MaterialData* materials, float4 background,
+                             WP_GLOBAL const MaterialData* materials,
+                             WP_GLOBAL const float* material_tables, float4 background,
                              WP_GLOBAL const float* light_cdf, WP_GLOBAL const int* light_prims,
                              WP_GLOBAL const float* light_pdf_area, int light_count,
                              WP_GLOBAL const TriNormals* tri_normals, WP_GLOBAL const TriUVs* tri_uvs,
@@ -490,9 +501,10 @@ WP_KERNEL void shade_surface(WP_GLOBAL const Ray* rays_in, WP_GLOBAL const PathS
     if (i < count_in[0]) {
         PathState path = paths_in[i];
         item = path.item;
-        push = wp_shade_path(rays_in[i], path, hits[i], tris, material_ids, materials, background,
-                             lights, app, seed, bounce, max_depth, radiance, counters, &next_ray,
-                             &next_path, &shadow, &shadow_ray, &contrib);
+        push = wp_shade_path(rays_in[i], path, hits[i], tris, material_ids, materials,
+                             material_tables, background, lights, app, seed, bounce, max_depth,
+                             radiance, counters, &next_ray, &next_path, &shadow, &shadow_ray,
+                             &contrib);
     }
     int local_slot = push ? wp_atomic_inc(&group_count) : 0;
     int shadow_local_slot = shadow ? wp_atomic_inc(&shadow_group_count) : 0;

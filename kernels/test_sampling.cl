@@ -18,7 +18,8 @@ WP_KERNEL void probe_bsdf_sample(MaterialData m, float4 d, float4 ns, int front,
     float3 wo, weight;
     float pdf;
     int specular;
-    if (wp_bsdf_sample_pdf(m, wp_xyz(d), wp_xyz(ns), front, u, &wo, &weight, &pdf, &specular))
+    if (wp_bsdf_sample_pdf(m, 0, wp_xyz(d), wp_xyz(ns), front, u, &wo, &weight, &pdf,
+                           &specular))
         out[i] = wp_float4(wo, pdf);
     else
         out[i] = make_float4(0.0f, 0.0f, 0.0f, -1.0f);

@@ -409,7 +409,7 @@ TEST_CASE("conductor: smooth conductor weight is albedo times F", "[unit][conduc
             float3 wo, weight = make_float3(0, 0, 0);
             float pdf = -1;
             int spec = 0;
-            REQUIRE(wp_bsdf_sample_pdf(m, d, ns, 1, u, &wo, &weight, &pdf, &spec) == 1);
+            REQUIRE(wp_bsdf_sample_pdf(m, nullptr, d, ns, 1, u, &wo, &weight, &pdf, &spec) == 1);
             CHECK(spec == 1);
             CHECK(pdf == 0.0f);
             CHECK(wo.x == Approx(-o.x).margin(1e-6));  // the mirror direction of d = -o
@@ -423,7 +423,7 @@ TEST_CASE("conductor: smooth conductor weight is albedo times F", "[unit][conduc
                 CHECK(std::abs(got[c] - r) < 2e-6);
             }
             float epdf = -1;
-            float3 f = wp_bsdf_eval(m, d, ns, wo, &epdf);
+            float3 f = wp_bsdf_eval(m, nullptr, d, ns, 1, wo, &epdf);
             CHECK(f.x == 0.0f);
             CHECK(epdf == 0.0f);
         }
@@ -470,24 +470,24 @@ TEST_CASE("conductor: rough conductor eval and sample weight and reciprocity", "
                 float3 d = make_float3(-o.x, -o.y, -o.z);
                 // eval against the double formula and the reference density.
                 float pdf = 0;
-                float3 f = wp_bsdf_eval(mat, d, ns, i, &pdf);
+                float3 f = wp_bsdf_eval(mat, nullptr, d, ns, 1, i, &pdf);
                 dvec3 r = ref_rough_fcos(m, separable, tint, cu.eta, cu.k, d3(o), d3(i));
                 double rp = ref_g1(m, d3(o)) * ref_d(m, glm::normalize(d3(o) + d3(i))) / (4 * o.z);
                 bad_eval += std::abs(f.x - r.x) > 1e-4 * r.x + 1e-30 || std::abs(f.z - r.z) > 1e-4 * r.z + 1e-30;
                 bad_pdf += std::abs(pdf - rp) > 1e-4 * rp + 1e-30;
                 // reciprocity: f(o, i) = f(i, o), f = f cos / cos θ_i.
                 float pdf2 = 0;
-                float3 fr = wp_bsdf_eval(mat, make_float3(-i.x, -i.y, -i.z), ns, o, &pdf2);
+                float3 fr = wp_bsdf_eval(mat, nullptr, make_float3(-i.x, -i.y, -i.z), ns, 1, o, &pdf2);
                 bad_recip += std::abs(f.x / i.z - fr.x / o.z) > 1e-4 * (f.x / i.z) + 1e-30;
                 // a sample from o: weight = f cos / pdf, pdf = eval's.
                 float4 u = make_float4(rng.uniform(), rng.uniform(), rng.uniform(), rng.uniform());
                 float3 wo, weight = make_float3(0, 0, 0);
                 float spdf = 0;
                 int spec = 0;
-                if (wp_bsdf_sample_pdf(mat, d, ns, 1, u, &wo, &weight, &spdf, &spec)) {
+                if (wp_bsdf_sample_pdf(mat, nullptr, d, ns, 1, u, &wo, &weight, &spdf, &spec)) {
                     ++samples;
                     float epdf = 0;
-                    float3 ef = wp_bsdf_eval(mat, d, ns, wo, &epdf);
+                    float3 ef = wp_bsdf_eval(mat, nullptr, d, ns, 1, wo, &epdf);
                     bad_weight += spec != 0 || !(spdf > 0.0f) || std::abs(spdf - epdf) > 1e-3f * epdf ||
                                   std::abs(weight.x - ef.x / epdf) > 1e-3f * weight.x + 1e-7f ||
                                   std::abs(weight.z - ef.z / epdf) > 1e-3f * weight.z + 1e-7f;
@@ -526,7 +526,7 @@ TEST_CASE("conductor: rough conductor samples follow eval's density (chi2)", "[u
                 double th = (a + 0.5) * dt;
                 for (int b = 0; b < np * sub; ++b) {
                     float pdf = 0;
-                    wp_bsdf_eval(mat, d, ns, f3(dir(th, (b + 0.5) * dp)), &pdf);
+                    wp_bsdf_eval(mat, nullptr, d, ns, 1, f3(dir(th, (b + 0.5) * dp)), &pdf);
                     double p = pdf * std::sin(th) * dt * dp;
                     expct[(a / sub) * np + b / sub] += p * n;
                     above += p;
@@ -539,7 +539,7 @@ TEST_CASE("conductor: rough conductor samples follow eval's density (chi2)", "[u
                 float3 wo, weight = make_float3(0, 0, 0);
                 float pdf;
                 int spec;
-                if (!wp_bsdf_sample_pdf(mat, d, ns, 1, u, &wo, &weight, &pdf, &spec)) {
+                if (!wp_bsdf_sample_pdf(mat, nullptr, d, ns, 1, u, &wo, &weight, &pdf, &spec)) {
                     obs[nt * np] += 1;
                     continue;
                 }
@@ -592,7 +592,7 @@ TEST_CASE("conductor: white furnace of the rough conductor (F = 1) and its energ
                         float pdf;
                         int spec;
                         double w = 0;
-                        if (wp_bsdf_sample_pdf(mat, f3(-o), ns, 1, u, &wo, &weight, &pdf, &spec)) {
+                        if (wp_bsdf_sample_pdf(mat, nullptr, f3(-o), ns, 1, u, &wo, &weight, &pdf, &spec)) {
                             if (!std::isfinite(weight.x) || !(weight.x >= 0.0f) || !(wo.z > 0.0f) ||
                                 weight.x != weight.y || weight.x != weight.z)
                                 ++bad;
@@ -661,11 +661,11 @@ TEST_CASE("conductor: no NaN or negative value at extreme inputs", "[unit][condu
                             float3 w, weight = make_float3(0, 0, 0);
                             float pdf = 0;
                             int spec = 0;
-                            if (wp_bsdf_sample_pdf(m, d, ns, 1, make_float4(u1, u2, 0.5f, 0.5f), &w, &weight, &pdf, &spec))
+                            if (wp_bsdf_sample_pdf(m, nullptr, d, ns, 1, make_float4(u1, u2, 0.5f, 0.5f), &w, &weight, &pdf, &spec))
                                 ok = ok && std::isfinite(weight.x) && weight.x >= 0.0f && std::isfinite(pdf) &&
                                      pdf >= 0.0f && w.z > 0.0f && std::abs(dot(w, w) - 1.0f) < 1e-5f;
                             float epdf = 0;
-                            float3 f = wp_bsdf_eval(m, d, ns, wi, &epdf);
+                            float3 f = wp_bsdf_eval(m, nullptr, d, ns, 1, wi, &epdf);
                             ok = ok && std::isfinite(f.x) && f.x >= 0.0f && std::isfinite(epdf) && epdf >= 0.0f;
                             if (!ok) {
                                 if (bad < 10)
@@ -883,7 +883,7 @@ TEST_CASE("conductor: rough and smooth conductor agree with Mitsuba 3", "[unit][
         MaterialData mat = conductor(WP_MATERIAL_ROUGH_CONDUCTOR, tint, eta, k, r.au, r.av, flags_of(m, true));
         float3 o = make_float3(r.wi[0], r.wi[1], r.wi[2]), i = make_float3(r.wo[0], r.wo[1], r.wo[2]);
         float pdf;
-        float3 f = wp_bsdf_eval(mat, make_float3(-o.x, -o.y, -o.z), ns, i, &pdf);
+        float3 f = wp_bsdf_eval(mat, nullptr, make_float3(-o.x, -o.y, -o.z), ns, 1, i, &pdf);
         dvec3 od = d3(o), id = d3(i);
         // The double formula with Walter's G1 in place of the exact one.
         double walter_ratio = walter_g1(m, od) * walter_g1(m, id) / ref_g(m, true, od, id);
@@ -917,7 +917,7 @@ TEST_CASE("conductor: rough and smooth conductor agree with Mitsuba 3", "[unit][
         float3 wo, weight = make_float3(0, 0, 0);
         float pdf;
         int spec;
-        REQUIRE(wp_bsdf_sample_pdf(mat, d, ns, 1, make_float4(0.5f, 0.5f, 0.5f, 0.5f), &wo, &weight, &pdf, &spec));
+        REQUIRE(wp_bsdf_sample_pdf(mat, nullptr, d, ns, 1, make_float4(0.5f, 0.5f, 0.5f, 0.5f), &wo, &weight, &pdf, &spec));
         const float got[3] = {weight.x, weight.y, weight.z};
         for (int c = 0; c < 3; ++c) {
             INFO("theta " << r.theta << " channel " << c);
@@ -971,7 +971,7 @@ TEST_CASE("conductor: the device samples what the host samples", "[kernel][condu
                 float pdf;
                 int spec;
                 float4 want = make_float4(0, 0, 0, -1);
-                if (wp_bsdf_sample_pdf(m, make_float3(dn.x, dn.y, dn.z), make_float3(0, 0, 1), 1, u, &wo, &weight,
+                if (wp_bsdf_sample_pdf(m, nullptr, make_float3(dn.x, dn.y, dn.z), make_float3(0, 0, 1), 1, u, &wo, &weight,
                                        &pdf, &spec))
                     want = make_float4(wo.x, wo.y, wo.z, pdf);
                 const float4& g = got[i];

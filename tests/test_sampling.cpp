@@ -299,14 +299,14 @@ TEST_CASE("sampling: MIS weights of BSDF and light sampling sum to 1", "[unit][s
             float3 wo, weight;
             float pdf_b;
             int spec;
-            if (!wp_bsdf_sample_pdf(m, d, ns, 1, u, &wo, &weight, &pdf_b, &spec)) continue;
+            if (!wp_bsdf_sample_pdf(m, nullptr, d, ns, 1, u, &wo, &weight, &pdf_b, &spec)) continue;
             float2 b = wp_sample_triangle_barycentric(u.z, u.w);
             float3 y = l0 * (1 - b.x - b.y) + l1 * b.x + l2 * b.y;
             float dist2 = dot(y, y);
             float3 wl = y * (1.0f / std::sqrt(dist2));
             float pdf_l = wp_light_pdf_solid_angle(1.0f / area, dist2, -dot(wl, ln));
             float pdf_bl;
-            wp_bsdf_eval(m, d, ns, wl, &pdf_bl);
+            wp_bsdf_eval(m, nullptr, d, ns, 1, wl, &pdf_bl);
             for (auto pr : {std::pair<float, float>{pdf_b, pdf_l}, {pdf_l, pdf_bl}}) {
                 float w1 = wp_power_heuristic(pr.first, pr.second);
                 float w2 = wp_power_heuristic(pr.second, pr.first);
@@ -317,7 +317,7 @@ TEST_CASE("sampling: MIS weights of BSDF and light sampling sum to 1", "[unit][s
             }
             // eval agrees with sample on the density of the sampled direction
             float pdf_e;
-            wp_bsdf_eval(m, d, ns, wo, &pdf_e);
+            wp_bsdf_eval(m, nullptr, d, ns, 1, wo, &pdf_e);
             CHECK(pdf_e == Approx(pdf_b).epsilon(1e-3));
         }
     CHECK(checked > 3000);
@@ -537,7 +537,7 @@ TEST_CASE("sampling: white GGX furnace per direction, grazing to normal (no ener
                 float pdf;
                 int spec;
                 double w = 0;
-                if (wp_bsdf_sample_pdf(m, d, ns, 1, u, &wo, &weight, &pdf, &spec)) {
+                if (wp_bsdf_sample_pdf(m, nullptr, d, ns, 1, u, &wo, &weight, &pdf, &spec)) {
                     if (!std::isfinite(weight.x) || !(weight.x >= 0.0f) || !std::isfinite(wo.z)) ++bad;
                     if (weight.x > 1.0f + 1e-5f) ++gain;
                     if (!(wo.z > 0.0f)) ++below;

@@ -9,18 +9,24 @@
 //
 // Each kind `name` of material_kinds.h has its file materials/<name>.h (included below)
 // with the two functions this file calls:
-//   int wp_<name>_sample(MaterialData m, float3 d, float3 ns, int front, float4 u,
-//                        float3* wo, float3* weight, float* pdf, int* specular)
-//     d: unit direction of the arriving ray (pointing at the surface); ns: unit geometric
-//     normal on the side the ray arrives from (dot(d, ns) <= 0); front: the ray arrives at
-//     the front face (for glass: from outside); u: uniform numbers in [0, 1); *specular is
-//     0 on entry. Returns 1 and writes the unit outgoing direction, the weight, the density
-//     (0 for specular events) and, for a Dirac event, *specular = 1; returns 0 when the
-//     path is absorbed.
-//   float3 wp_<name>_eval(MaterialData m, float3 d, float3 ns, float3 wi, float cos_i,
-//                         float* pdf)
-//     f cos θi for the unit direction wi with cos_i = dot(wi, ns) > 0, and in *pdf the
-//     density with which wp_<name>_sample draws wi; zero and 0 for Dirac lobes.
+//   int wp_<name>_sample(MaterialData m, WP_GLOBAL const float* tables, float3 d, float3 ns,
+//                        int front, float4 u, float3* wo, float3* weight, float* pdf,
+//                        int* specular)
+//     tables: the material-table buffer (precomputed per material by the host, read at
+//     m.table; scene/material_tables.h; only roughplastic has tables today, other kinds
+//     ignore it; may be 0 where no material has tables); d: unit direction of the arriving
+//     ray (pointing at the surface); ns: unit (shading) normal on the side the ray arrives
+//     from (dot(d, ns) <= 0); front: the ray arrives at the front face (for the dielectrics:
+//     from outside, so η = m.ior, else 1 / m.ior); u: uniform numbers in [0, 1); *specular
+//     is 0 on entry. Returns 1 and writes the unit outgoing direction, the weight, the
+//     density (0 for specular events) and, for a Dirac event, *specular = 1; returns 0 when
+//     the path is absorbed.
+//   float3 wp_<name>_eval(MaterialData m, WP_GLOBAL const float* tables, float3 d, float3 ns,
+//                         int front, float3 wi, float cos_i, float* pdf)
+//     f |cos θi| for the unit direction wi with cos_i = dot(wi, ns), signed: > 0 is a
+//     reflection (wi on the arriving side), < 0 a transmission (wi below); and in *pdf the
+//     density with which wp_<name>_sample draws wi (*pdf is 0 on entry). Kinds without a
+//     transmission lobe return zero for cos_i <= 0; Dirac lobes give zero and 0.
 // Which kinds are compiled is set by WP_HAVE_<KIND> (KernelConfig; each file defaults its
 // own to 1); a material of a kind that is not compiled absorbs the path.
 #ifndef WP_BSDF_H
@@ -64,35 +70,39 @@ WP_FN int wp_material_is_specular(MaterialData m) {
 }
 
 // Draws an outgoing direction from m's kind (see the contract above); 0: absorbed.
-WP_FN int wp_bsdf_sample_pdf(MaterialData m, float3 d, float3 ns, int front, float4 u,
-                             float3* wo, float3* weight, float* pdf, int* specular) {
+WP_FN int wp_bsdf_sample_pdf(MaterialData m, WP_GLOBAL const float* tables, float3 d, float3 ns,
+                             int front, float4 u, float3* wo, float3* weight, float* pdf,
+                             int* specular) {
     *specular = 0;
 #define WP_KIND_SAMPLE_(KIND, Kind, name, spec, alpha, ior, etak)                          \
     if (WP_HAVE_##KIND && m.kind == WP_MATERIAL_##KIND)                               \
-        return wp_##name##_sample(m, d, ns, front, u, wo, weight, pdf, specular);
+        return wp_##name##_sample(m, tables, d, ns, front, u, wo, weight, pdf, specular);
     WP_MATERIAL_KINDS(WP_KIND_SAMPLE_)
 #undef WP_KIND_SAMPLE_
     return 0;
 }
 
-// The original entry point: direction and weight only.
+// The original entry point: direction and weight only, arriving at the front, no tables.
 WP_FN int wp_bsdf_sample(MaterialData m, float3 d, float3 ns, float4 u, float3* wo,
                          float3* weight) {
     float pdf;
     int specular;
-    return wp_bsdf_sample_pdf(m, d, ns, 1, u, wo, weight, &pdf, &specular);
+    return wp_bsdf_sample_pdf(m, 0, d, ns, 1, u, wo, weight, &pdf, &specular);
 }
 
-// f cos θi for the unit direction wi (towards the light), and in *pdf the density with
-// which wp_bsdf_sample_pdf draws wi. Zero for specular and uncompiled kinds and for wi
-// below the surface.
-WP_FN float3 wp_bsdf_eval(MaterialData m, float3 d, float3 ns, float3 wi, float* pdf) {
+// f |cos θi| for the unit direction wi (towards the light; above the surface: a reflection,
+// below: a transmission), and in *pdf the density with which wp_bsdf_sample_pdf draws wi.
+// Zero for specular and uncompiled kinds, for tangent wi, and for wi below the surface
+// unless the kind transmits there.
+WP_FN float3 wp_bsdf_eval(MaterialData m, WP_GLOBAL const float* tables, float3 d, float3 ns,
+                          int front, float3 wi, float* pdf) {
     float3 zero = make_float3(0.0f, 0.0f, 0.0f);
     float cos_i = dot(wi, ns);
     *pdf = 0.0f;
-    if (!(cos_i > 0.0f)) return zero;
+    if (!(cos_i != 0.0f)) return zero;
 #define WP_KIND_EVAL_(KIND, Kind, name, spec, alpha, ior, etak) \
-    if (WP_HAVE_##KIND && m.kind == WP_MATERIAL_##KIND) return wp_##name##_eval(m, d, ns, wi, cos_i, pdf);
+    if (WP_HAVE_##KIND && m.kind == WP_MATERIAL_##KIND)      \
+        return wp_##name##_eval(m, tables, d, ns, front, wi, cos_i, pdf);
     WP_MATERIAL_KINDS(WP_KIND_EVAL_)
 #undef WP_KIND_EVAL_
     return zero;

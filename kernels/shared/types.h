@@ -171,6 +171,13 @@ typedef struct TraceStats {
 #define WP_MF_SEPARABLE_G 2     // rough kinds: G = G1(wo) G1(wi) (else height-correlated)
 #define WP_PLASTIC_NONLINEAR 4  // plastics: Mitsuba's nonlinear internal scattering
 
+// The material tables of a roughplastic (scene/material_tables.h, materials/roughplastic.h):
+// at MaterialData.table, WP_ROUGH_PLASTIC_RES values of the coat's external transmittance
+// at cos θ = max(1e-6, k / (RES - 1)), then its internal diffuse reflectance (Mitsuba 3's
+// MI_ROUGH_TRANSMITTANCE_RES tables).
+#define WP_ROUGH_PLASTIC_RES 64
+#define WP_ROUGH_PLASTIC_TABLE_SIZE (WP_ROUGH_PLASTIC_RES + 1)
+
 // Camera as the generate stage reads it (built by scene/upload). 96 bytes.
 // The pinhole ray through image position (px, py) in pixels (0,0 = top-left corner of the
 // image) has direction forward + ((2 px / width) - 1) * right + (1 - (2 py / height)) * up.

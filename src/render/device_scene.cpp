@@ -58,6 +58,7 @@ DeviceScene DeviceScene::upload(const ocl::Device& dev, const Scene& scene, cons
     s.tris = ocl::Array<Triangle>::upload(dev, up.triangles, "the shading triangles");
     s.material_ids = ocl::Array<int>::upload(dev, up.material_ids, "the material ids");
     s.materials = ocl::Array<MaterialData>::upload(dev, up.materials, "the materials");
+    s.material_tables = ocl::Array<float>::upload(dev, up.material_tables, "the material tables");
     s.background = up.background;
     LightTable lights;
     if (config.nee()) lights = build_light_table(scene);
@@ -118,6 +119,7 @@ DeviceScene DeviceScene::upload(const ocl::Device& dev, const Scene& scene, cons
     d.warnings = std::move(app.warnings);
 
     st.scene_bytes = d.bvh.bytes + s.tris.bytes() + s.material_ids.bytes() + s.materials.bytes() +
+                     s.material_tables.bytes() +
                      s.light_cdf.bytes() + s.light_prims.bytes() + s.light_pdf_area.bytes() +
                      st.texture_bytes + st.attribute_bytes + st.env_bytes;
     st.upload_ms = timer.ms();

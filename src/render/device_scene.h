@@ -35,6 +35,9 @@ struct ShadingScene {
     ocl::Array<Triangle> tris;        // original triangle order (hits name them by prim)
     ocl::Array<int> material_ids;     // one per triangle
     ocl::Array<MaterialData> materials;
+    // The tables some kinds read at MaterialData.table (scene/material_tables.h): a
+    // one-float placeholder when no material has any (no rough plastic).
+    ocl::Array<float> material_tables;
     float4 background{0, 0, 0, 0};    // xyz: radiance of escaped rays
     // NEE light table (kernels/shared/lights.h); placeholders without NEE.
     ocl::Array<float> light_cdf;

@@ -4,6 +4,7 @@
 
 #include <glm/geometric.hpp>
 
+#include "scene/material_tables.h"
 #include "scene/normals.h"
 #include "util/error.h"
 
@@ -13,7 +14,31 @@ namespace {
 
 float4 row(const glm::vec3& v, float w = 0.0f) { return {v.x, v.y, v.z, w}; }
 
+// The mean of a texture's linear RGB texels (8-bit sRGB texels decoded).
+double texture_mean(const Texture& t) {
+    std::size_t n = static_cast<std::size_t>(t.width) * static_cast<std::size_t>(t.height);
+    if (n == 0) return 1.0;
+    auto linear = [&](std::uint8_t b) {
+        double c = b / 255.0;
+        if (!t.srgb) return c;
+        return c <= 0.04045 ? c / 12.92 : std::pow((c + 0.055) / 1.055, 2.4);
+    };
+    double sum = 0.0;
+    for (std::size_t i = 0; i < n; ++i)
+        for (int k = 0; k < 3; ++k)
+            sum += t.is_float() ? double(t.texelsf[4 * i + k]) : linear(t.texels8[4 * i + k]);
+    return sum / (3.0 * double(n));
+}
+
 }  // namespace
+
+float plastic_specular_weight(const Material& m, const std::vector<Texture>& textures) {
+    double d_mean = (double(m.albedo.x) + m.albedo.y + m.albedo.z) / 3.0;
+    if (m.albedo_map.used() && m.albedo_map.image < static_cast<int>(textures.size()))
+        d_mean *= texture_mean(textures[m.albedo_map.image]);
+    double s_mean = (double(m.specular.x) + m.specular.y + m.specular.z) / 3.0;
+    return d_mean + s_mean > 0.0 ? static_cast<float>(s_mean / (d_mean + s_mean)) : 0.5f;
+}
 
 SceneUpload upload_scene(const Scene& scene) {
     SceneUpload up;
@@ -34,6 +59,7 @@ SceneUpload upload_scene(const Scene& scene) {
                  i, scene.material_ids[i], scene.materials.size());
         up.material_ids.push_back(static_cast<int>(scene.material_ids[i]));
     }
+    MaterialTables tables = build_material_tables(scene);
     for (const Material& m : scene.materials) {
         MaterialData d{};
         // Parameters the kind does not read (material_kinds.h) stay 0.
@@ -52,11 +78,13 @@ SceneUpload upload_scene(const Scene& scene) {
             d.eta = row(m.eta);
             d.k = row(m.k);
         }
-        if (m.nonlinear && (m.kind == MaterialKind::Plastic || m.kind == MaterialKind::RoughPlastic))
-            d.flags |= WP_PLASTIC_NONLINEAR;
-        d.table = -1;
+        bool plastic = m.kind == MaterialKind::Plastic || m.kind == MaterialKind::RoughPlastic;
+        if (m.nonlinear && plastic) d.flags |= WP_PLASTIC_NONLINEAR;
+        if (plastic) d.specular.w = plastic_specular_weight(m, scene.textures);
+        d.table = tables.table[up.materials.size()];
         up.materials.push_back(d);
     }
+    up.material_tables = std::move(tables.data);
     up.background = row(scene.background);
     return up;
 }

@@ -20,6 +20,9 @@ struct SceneUpload {
     std::vector<Triangle> triangles;       // original triangle order (shade reads them by prim)
     std::vector<int> material_ids;         // one per triangle
     std::vector<MaterialData> materials;
+    // The tables some kinds read at MaterialData.table (scene/material_tables.h); empty when
+    // no material has any.
+    std::vector<float> material_tables;
     float4 background{0.0f, 0.0f, 0.0f, 0.0f};  // xyz: radiance of escaped rays
 };
 
@@ -63,6 +66,12 @@ LightTable build_light_table(const Scene& scene);
 
 // Throws wp::Error when a triangle's material id or vertex index is out of range.
 SceneUpload upload_scene(const Scene& scene);
+
+// Mitsuba's specular sampling weight of a plastic (MaterialData.specular.w): the mean of its
+// specular tint over the means of both reflectances (each the mean of its RGB, the albedo's
+// times the mean of its texture's linear texels), mean specular / (mean diffuse + mean
+// specular); 0.5 when both are black.
+float plastic_specular_weight(const Material& m, const std::vector<Texture>& textures);
 
 // The camera for a width x height image (throws wp::Error for a degenerate camera:
 // position == target, up parallel to the view direction, a field of view outside

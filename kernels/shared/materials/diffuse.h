@@ -15,9 +15,9 @@
 
 WP_NAMESPACE_BEGIN
 
-WP_FN int wp_diffuse_sample(MaterialData m, float3 d, float3 ns, int front, float4 u,
-                            float3* wo, float3* weight, float* pdf, int* specular) {
-    (void)d, (void)front, (void)specular;
+WP_FN int wp_diffuse_sample(MaterialData m, WP_GLOBAL const float* tables, float3 d, float3 ns,
+                            int front, float4 u, float3* wo, float3* weight, float* pdf, int* specular) {
+    (void)tables, (void)d, (void)front, (void)specular;
     float3 albedo = wp_xyz(m.albedo);
 #if WP_SAMPLING == WP_SAMPLING_UNIFORM
     float3 lv = wp_sample_uniform_hemisphere(u.x, u.y);
@@ -35,9 +35,10 @@ WP_FN int wp_diffuse_sample(MaterialData m, float3 d, float3 ns, int front, floa
     return 1;
 }
 
-WP_FN float3 wp_diffuse_eval(MaterialData m, float3 d, float3 ns, float3 wi, float cos_i,
-                             float* pdf) {
-    (void)d, (void)ns, (void)wi;
+WP_FN float3 wp_diffuse_eval(MaterialData m, WP_GLOBAL const float* tables, float3 d, float3 ns,
+                             int front, float3 wi, float cos_i, float* pdf) {
+    (void)tables, (void)d, (void)ns, (void)front, (void)wi;
+    if (!(cos_i > 0.0f)) return make_float3(0.0f, 0.0f, 0.0f);  // reflection only
 #if WP_SAMPLING == WP_SAMPLING_UNIFORM
     *pdf = wp_uniform_hemisphere_pdf();
 #else

@@ -35,8 +35,9 @@ WP_FN float wp_fresnel_dielectric(float cos_i, float eta, float* cos_t) {
     return 0.5f * (rs * rs + rp * rp);
 }
 
-WP_FN int wp_glass_sample(MaterialData m, float3 d, float3 ns, int front, float4 u,
-                          float3* wo, float3* weight, float* pdf, int* specular) {
+WP_FN int wp_glass_sample(MaterialData m, WP_GLOBAL const float* tables, float3 d, float3 ns,
+                          int front, float4 u, float3* wo, float3* weight, float* pdf, int* specular) {
+    (void)tables;
     float eta = front ? 1.0f / m.ior : m.ior;  // η_i / η_t
     float cos_i = -dot(d, ns);
     float cos_t;
@@ -54,9 +55,9 @@ WP_FN int wp_glass_sample(MaterialData m, float3 d, float3 ns, int front, float4
 }
 
 // A Dirac lobe: no finite f for any given direction.
-WP_FN float3 wp_glass_eval(MaterialData m, float3 d, float3 ns, float3 wi, float cos_i,
-                           float* pdf) {
-    (void)m, (void)d, (void)ns, (void)wi, (void)cos_i;
+WP_FN float3 wp_glass_eval(MaterialData m, WP_GLOBAL const float* tables, float3 d, float3 ns,
+                           int front, float3 wi, float cos_i, float* pdf) {
+    (void)m, (void)tables, (void)d, (void)ns, (void)front, (void)wi, (void)cos_i;
     *pdf = 0.0f;
     return make_float3(0.0f, 0.0f, 0.0f);
 }

@@ -34,9 +34,9 @@ WP_FN float3 wp_fresnel_schlick(float3 f0, float cos_theta) {
 // wp::phong_exponent_to_alpha). The one place the device converts.
 WP_FN float wp_ggx_alpha_to_phong(float alpha) { return 2.0f / (alpha * alpha) - 2.0f; }
 
-WP_FN int wp_glossy_sample(MaterialData m, float3 d, float3 ns, int front, float4 u,
-                           float3* wo, float3* weight, float* pdf, int* specular) {
-    (void)front, (void)specular;
+WP_FN int wp_glossy_sample(MaterialData m, WP_GLOBAL const float* tables, float3 d, float3 ns,
+                           int front, float4 u, float3* wo, float3* weight, float* pdf, int* specular) {
+    (void)tables, (void)front, (void)specular;
     float3 albedo = wp_xyz(m.albedo);
 #if WP_GLOSSY_MODEL == WP_GLOSSY_PHONG
     float e = wp_ggx_alpha_to_phong(m.alpha);
@@ -63,10 +63,11 @@ WP_FN int wp_glossy_sample(MaterialData m, float3 d, float3 ns, int front, float
 #endif
 }
 
-WP_FN float3 wp_glossy_eval(MaterialData m, float3 d, float3 ns, float3 wi, float cos_i,
-                            float* pdf) {
-    (void)cos_i;
+WP_FN float3 wp_glossy_eval(MaterialData m, WP_GLOBAL const float* tables, float3 d, float3 ns,
+                            int front, float3 wi, float cos_i, float* pdf) {
+    (void)tables, (void)front;
     float3 albedo = wp_xyz(m.albedo);
+    if (!(cos_i > 0.0f)) return make_float3(0.0f, 0.0f, 0.0f);  // reflection only
 #if WP_GLOSSY_MODEL == WP_GLOSSY_PHONG
     float3 r = wp_reflect(d, ns);
     *pdf = wp_phong_lobe_pdf(dot(wi, r), wp_ggx_alpha_to_phong(m.alpha));

@@ -13,10 +13,9 @@
 
 WP_NAMESPACE_BEGIN
 
-WP_FN int wp_mirror_sample(MaterialData m, float3 d, float3 ns, int front, float4 u,
-                           float3* wo, float3* weight, float* pdf, int* specular) {
-    (void)front;
-    (void)u;
+WP_FN int wp_mirror_sample(MaterialData m, WP_GLOBAL const float* tables, float3 d, float3 ns,
+                           int front, float4 u, float3* wo, float3* weight, float* pdf, int* specular) {
+    (void)tables, (void)front, (void)u;
     *wo = wp_reflect(d, ns);
     *weight = wp_xyz(m.albedo);
     *pdf = 0.0f;
@@ -25,9 +24,9 @@ WP_FN int wp_mirror_sample(MaterialData m, float3 d, float3 ns, int front, float
 }
 
 // A Dirac lobe: no finite f for any given direction.
-WP_FN float3 wp_mirror_eval(MaterialData m, float3 d, float3 ns, float3 wi, float cos_i,
-                            float* pdf) {
-    (void)m, (void)d, (void)ns, (void)wi, (void)cos_i;
+WP_FN float3 wp_mirror_eval(MaterialData m, WP_GLOBAL const float* tables, float3 d, float3 ns,
+                            int front, float3 wi, float cos_i, float* pdf) {
+    (void)m, (void)tables, (void)d, (void)ns, (void)front, (void)wi, (void)cos_i;
     *pdf = 0.0f;
     return make_float3(0.0f, 0.0f, 0.0f);
 }

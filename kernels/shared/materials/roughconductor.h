@@ -18,9 +18,9 @@
 
 WP_NAMESPACE_BEGIN
 
-WP_FN int wp_roughconductor_sample(MaterialData m, float3 d, float3 ns, int front, float4 u,
-                                   float3* wo, float3* weight, float* pdf, int* specular) {
-    (void)front, (void)specular;
+WP_FN int wp_roughconductor_sample(MaterialData m, WP_GLOBAL const float* tables, float3 d, float3 ns,
+                                   int front, float4 u, float3* wo, float3* weight, float* pdf, int* specular) {
+    (void)tables, (void)front, (void)specular;
     Microfacet mf = wp_microfacet(m);
     float3 vo = wp_to_local(-d, ns);
     float g1o = wp_mf_g1(mf, vo);
@@ -37,9 +37,9 @@ WP_FN int wp_roughconductor_sample(MaterialData m, float3 d, float3 ns, int fron
     return 1;
 }
 
-WP_FN float3 wp_roughconductor_eval(MaterialData m, float3 d, float3 ns, float3 wi, float cos_i,
-                                    float* pdf) {
-    (void)cos_i;
+WP_FN float3 wp_roughconductor_eval(MaterialData m, WP_GLOBAL const float* tables, float3 d, float3 ns,
+                                    int front, float3 wi, float cos_i, float* pdf) {
+    (void)tables, (void)front, (void)cos_i;
     float3 zero = make_float3(0.0f, 0.0f, 0.0f);
     Microfacet mf = wp_microfacet(m);
     float3 vo = wp_to_local(-d, ns);

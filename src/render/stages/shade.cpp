@@ -13,7 +13,8 @@ ShadeStage::ShadeStage(const ocl::Device& dev, const KernelConfig& config, ocl::
                                 const ocl::Array<int>& counters, const PathQueue& out,
                                 const ShadowQueue& shadow) {
     return kernel_.launch(target_, launch, in.rays, in.paths, in.count, hits, scene.tris,
-                          scene.material_ids, scene.materials, scene.background, scene.light_cdf,
+                          scene.material_ids, scene.materials, scene.material_tables,
+                          scene.background, scene.light_cdf,
                           scene.light_prims, scene.light_pdf_area, cl_int(scene.light_count),
                           scene.tri_normals, scene.tex.tri_uvs, scene.tri_tangents,
                           scene.tex.material_textures, scene.tex.textures, scene.tex.views,
