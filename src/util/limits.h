@@ -53,6 +53,17 @@ constexpr double kMaxEnvScale = 1e6;
 constexpr double kMaxEnvRotateDeg = 360.0;
 constexpr double kMaxCreaseDeg = 180.0;
 
+// Materials (scene/validate.cpp, the loaders): the microfacet roughness α (α_u, α_v) of the
+// rough kinds (roughconductor, roughdielectric, roughplastic) in [kMinRoughAlpha,
+// kMaxRoughAlpha] (loaders map a smaller α to the smooth kind); their default in JSON files
+// is Mitsuba 3's (0.1). The glossy kind keeps α in (0, 1]. Indices of refraction (inside /
+// outside) in [kMinIor, kMaxIor].
+constexpr double kMinRoughAlpha = 1e-4;
+constexpr double kMaxRoughAlpha = 2.0;
+constexpr double kDefaultRoughAlpha = 0.1;
+constexpr double kMinIor = 0.01;
+constexpr double kMaxIor = 100.0;
+
 // The estimator's defaults (sampling, glossy model, sampler, Russian roulette) are
 // kernels/shared/estimator.h's, read by the kernels and render::Estimator alike.
 
