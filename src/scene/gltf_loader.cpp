@@ -514,7 +514,7 @@ Material convert_material(const tinygltf::Material& gm, int index, GltfTextures&
         const double ior = ext_number("KHR_materials_ior", "ior", 1.5);
         m.ior = ior >= limits::kMinIor && ior <= limits::kMaxIor && ior != 1.0 ? float(ior) : 1.5f;
         const float a = roughness * roughness;
-        if (a >= float(limits::kMinRoughAlpha)) {
+        if (a >= limits::kMinMicrofacetAlpha) {
             m.kind = MaterialKind::RoughDielectric;
             m.alpha = a;
         } else {

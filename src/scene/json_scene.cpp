@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <array>
 #include <cctype>
+#include <charconv>
 #include <cmath>
 #include <limits>
 #include <map>
@@ -480,6 +481,16 @@ struct MaterialEntry {
 
 constexpr double kNoMax = double(std::numeric_limits<float>::max());
 
+// The decimal number a float limit was written as (1e-4f → 1e-4, not 9.99999974e-05): the
+// bound the file's numbers are checked against and the one the message shows; a number that
+// passes becomes a float within the limit.
+double decimal(float x) {
+    const std::string text = fmt::format("{}", x);
+    double d = x;
+    std::from_chars(text.data(), text.data() + text.size(), d);
+    return d;
+}
+
 class Reader {
 public:
     Reader(std::string_view text, const fs::path& origin)
@@ -928,7 +939,7 @@ Material Reader::read_material(const Json& v, const Path& p, std::vector<TexSpec
         if (r) m.alpha = real_in(*r, p.key("roughness"), 1e-4, 1.0, false, false);
         if (e) m.alpha = phong_exponent_to_alpha(real_in(*e, p.key("exponent"), 0.0, kNoMax, false, false));
     } else if (uses_alpha(m.kind)) {
-        const double lo = limits::kMinRoughAlpha, hi = limits::kMaxRoughAlpha;
+        const double lo = decimal(limits::kMinMicrofacetAlpha), hi = decimal(limits::kMaxMicrofacetAlpha);
         const Json* r = find(v, "roughness");
         const Json* ru = find(v, "roughness_u");
         const Json* rv = find(v, "roughness_v");
@@ -943,7 +954,7 @@ Material Reader::read_material(const Json& v, const Path& p, std::vector<TexSpec
             error_at_key(p.key("roughness_texture"),
                          "\"roughness_texture\" needs an isotropic \"roughness\" (not "
                          "\"roughness_u\"/\"roughness_v\")");
-        m.alpha = has("roughness_texture") ? 1.0f : float(limits::kDefaultRoughAlpha);
+        m.alpha = has("roughness_texture") ? 1.0f : limits::kDefaultMicrofacetAlpha;
         if (r) m.alpha = real_in(*r, p.key("roughness"), lo, hi, false, false);
         if (ru) {
             m.alpha = real_in(*ru, p.key("roughness_u"), lo, hi, false, false);
@@ -1000,7 +1011,8 @@ Material Reader::read_material(const Json& v, const Path& p, std::vector<TexSpec
     }
     if (uses_ior(m.kind))
         if (const Json* x = find(v, "ior"))
-            m.ior = real_in(*x, p.key("ior"), limits::kMinIor, limits::kMaxIor, false, false);
+            m.ior = real_in(*x, p.key("ior"), decimal(limits::kMinIor), decimal(limits::kMaxIor),
+                            false, false);
     if (const Json* x = find(v, "nonlinear")) {
         if (!x->is_boolean())
             error(p.key("nonlinear"), "expected true or false, got {}", describe(*x));

@@ -439,7 +439,7 @@ Material convert_material(const tinyobj::material_t& mt, const MtlInfo& info, Mt
         glm::vec3 tf = vec3(mt.transmittance);
         m.albedo = max3(mt.transmittance) > 0.0f ? clamped("Tf", tf) : glm::vec3(1.0f);
         const float ior = float(mt.ior);
-        const bool usable = ior >= float(limits::kMinIor) && ior <= float(limits::kMaxIor) &&
+        const bool usable = ior >= limits::kMinIor && ior <= limits::kMaxIor &&
                             ior != 1.0f;  // (NaN: false)
         m.ior = usable ? ior : 1.5f;
         if (!usable)

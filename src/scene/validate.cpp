@@ -18,18 +18,17 @@ bool finite(glm::vec3 v) {
 } // namespace
 
 void validate_material_parameters(const Material& m, const std::string& what) {
-    // Compared as floats, so that float(1e-4) (below the double 1e-4) is in range; NaN is not
-    const auto in = [](float x, double lo, double hi) { return x >= float(lo) && x <= float(hi); };
+    const auto in = [](float x, float lo, float hi) { return x >= lo && x <= hi; };  // NaN: false
     if (m.kind == MaterialKind::Glossy) {
         if (!(m.alpha > 0.0f && m.alpha <= 1.0f))
             fail("{} has roughness alpha {}, which must be in (0, 1]", what, m.alpha);
     } else if (uses_alpha(m.kind)) {
-        if (!in(m.alpha, limits::kMinRoughAlpha, limits::kMaxRoughAlpha))
+        if (!in(m.alpha, limits::kMinMicrofacetAlpha, limits::kMaxMicrofacetAlpha))
             fail("{} has roughness alpha {}, which must be in [{}, {}]", what, m.alpha,
-                 limits::kMinRoughAlpha, limits::kMaxRoughAlpha);
-        if (m.alpha_v && !in(*m.alpha_v, limits::kMinRoughAlpha, limits::kMaxRoughAlpha))
+                 limits::kMinMicrofacetAlpha, limits::kMaxMicrofacetAlpha);
+        if (m.alpha_v && !in(*m.alpha_v, limits::kMinMicrofacetAlpha, limits::kMaxMicrofacetAlpha))
             fail("{} has roughness alpha_v {}, which must be in [{}, {}]", what, *m.alpha_v,
-                 limits::kMinRoughAlpha, limits::kMaxRoughAlpha);
+                 limits::kMinMicrofacetAlpha, limits::kMaxMicrofacetAlpha);
     }
     if (uses_ior(m.kind)) {
         if (!in(m.ior, limits::kMinIor, limits::kMaxIor))

@@ -18,8 +18,8 @@ namespace wp {
 void validate_scene(const Scene& scene);
 
 // The parameters that m's kind reads (material_kinds.h columns), each with its range
-// (util/limits.h): roughness α in (0, 1] for glossy, α and α_v in [kMinRoughAlpha,
-// kMaxRoughAlpha] for the rough kinds; the index of refraction in [kMinIor, kMaxIor] and the
+// (util/limits.h): roughness α in (0, 1] for glossy, α and α_v in [kMinMicrofacetAlpha,
+// kMaxMicrofacetAlpha] for the rough kinds; the index of refraction in [kMinIor, kMaxIor] and the
 // specular tint in [0, 1] (kinds with IOR); a conductor's η and k finite and >= 0. Throws
 // wp::Error "WHAT has ...", `what` naming the material. Parameters the kind does not read
 // are not checked (upload sends them as 0).

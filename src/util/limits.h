@@ -53,16 +53,17 @@ constexpr double kMaxEnvScale = 1e6;
 constexpr double kMaxEnvRotateDeg = 360.0;
 constexpr double kMaxCreaseDeg = 180.0;
 
-// Materials (scene/validate.cpp, the loaders): the microfacet roughness α (α_u, α_v) of the
-// rough kinds (roughconductor, roughdielectric, roughplastic) in [kMinRoughAlpha,
-// kMaxRoughAlpha] (loaders map a smaller α to the smooth kind); their default in JSON files
-// is Mitsuba 3's (0.1). The glossy kind keeps α in (0, 1]. Indices of refraction (inside /
-// outside) in [kMinIor, kMaxIor].
-constexpr double kMinRoughAlpha = 1e-4;
-constexpr double kMaxRoughAlpha = 2.0;
-constexpr double kDefaultRoughAlpha = 0.1;
-constexpr double kMinIor = 0.01;
-constexpr double kMaxIor = 100.0;
+// Microfacet roughness α of the rough material kinds (roughconductor, roughdielectric,
+// roughplastic; not the glossy kind, which takes (0, 1]): [kMinMicrofacetAlpha,
+// kMaxMicrofacetAlpha] (issue 14's contract). Loaders map a smaller α to the smooth kind and
+// clamp a larger one, each with a note. Their default in JSON files is Mitsuba 3's.
+constexpr float kMinMicrofacetAlpha = 1e-4f;
+constexpr float kMaxMicrofacetAlpha = 2.0f;
+constexpr float kDefaultMicrofacetAlpha = 0.1f;
+// Index of refraction (inside / outside) of the kinds that read one (scene/validate.cpp,
+// the loaders).
+constexpr float kMinIor = 0.01f;
+constexpr float kMaxIor = 100.0f;
 
 // The estimator's defaults (sampling, glossy model, sampler, Russian roulette) are
 // kernels/shared/estimator.h's, read by the kernels and render::Estimator alike.
