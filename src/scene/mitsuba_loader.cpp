@@ -5,6 +5,7 @@
 #include <charconv>
 #include <cmath>
 #include <cstdint>
+#include <limits>
 #include <numbers>
 #include <optional>
 #include <set>
@@ -1218,10 +1219,8 @@ void Reader::read_integrator(pugi::xml_node n) {
 
 void Reader::read_sensor(pugi::xml_node n) {
     Obj o = collect(n);
-    if (o.type == "thinlens")
-        note("thinlens", n,
-             "sensor 'thinlens' is rendered as a pinhole camera (no depth of field)");
-    else if (o.type != "perspective")
+    const bool thinlens = o.type == "thinlens";
+    if (!thinlens && o.type != "perspective")
         note("sensor " + o.type, n,
              fmt::format("sensor '{}' is not supported; rendered as a perspective camera", o.type));
     glm::dmat4 m = get_transform(o, "to_world").value_or(glm::dmat4(1.0));
@@ -1310,6 +1309,33 @@ void Reader::read_sensor(pugi::xml_node n) {
     for (const char* pp : {"principal_point_offset_x", "principal_point_offset_y"})
         if (auto v = get_float(o, pp); v && *v != 0.0)
             note("principal point", n, "principal_point_offset is not supported; ignored");
+    // Thin lens (thinlens): aperture_radius (required, as in Mitsuba 3; 0 is a pinhole) and
+    // focus_distance (Mitsuba's default: far_clip, 1e4), both in world units. A perspective
+    // sensor reads neither.
+    float lens_radius = 0.0f, focus_distance = 1.0f;
+    if (thinlens) {
+        auto* ap = prop(o, "aperture_radius", {"float", "integer"}, "a number");
+        if (!ap)
+            error(n, "sensor 'thinlens' needs aperture_radius (the lens radius in world units)");
+        const double a = number(ap->node, "value", required(ap->node, "value"));
+        if (!(a >= 0.0 && a <= double(std::numeric_limits<float>::max())))
+            error(ap->node, "aperture_radius {} must be >= 0 (0: a pinhole)", a);
+        const double far = get_float(o, "far_clip").value_or(1e4);
+        auto* fp = prop(o, "focus_distance", {"float", "integer"}, "a number");
+        const double fd = fp ? number(fp->node, "value", required(fp->node, "value")) : far;
+        if (!(fd > 0.0 && fd <= double(std::numeric_limits<float>::max())))
+            error(fp ? fp->node : n, "focus_distance {} must be > 0", fd);
+        lens_radius = float(a);
+        focus_distance = float(fd);
+        // Mitsuba 3 refuses a scaled to_world for thinlens; here the lens stays in world units.
+        for (int k = 0; k < 3; ++k)
+            if (std::abs(glm::length(glm::dvec3(m[k])) - 1.0) > 1e-3) {
+                note("thinlens scale", n,
+                     "the thinlens sensor's to_world scales (Mitsuba 3 rejects that); "
+                     "aperture_radius and focus_distance are taken in world units");
+                break;
+            }
+    }
     mark_used(o, {"near_clip", "far_clip", "focus_distance", "aperture_radius", "srf",
                   "shutter_open", "shutter_close"});
 
@@ -1323,6 +1349,8 @@ void Reader::read_sensor(pugi::xml_node n) {
             "mirrored sensor", n,
             "the sensor's to_world mirrors the image (column 0 points right); rendered unmirrored");
     scene_.camera = camera_from_matrix(glm::mat4(m), vfov, int(width), int(height));
+    scene_.camera.lens_radius = lens_radius;
+    scene_.camera.focus_distance = focus_distance;
     camera_to_world_ = m;
     finish(o);
 }

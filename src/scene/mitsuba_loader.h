@@ -12,7 +12,9 @@
 // order, as Mitsuba does: a $N used before its <default> is undefined.
 //
 // Sensor (the first <sensor>; others are ignored with a warning):
-//   perspective (thinlens: the same without depth of field, with a warning). to_world: its
+//   perspective, or thinlens: the same with depth of field (aperture_radius, required, and
+//   focus_distance [far_clip, 1e4] in world units → Camera lens_radius, focus_distance;
+//   a scaling to_world, which Mitsuba 3 rejects, is warned about). to_world: its
 //   column 2 is the viewing direction, column 1 up, column 0 points to the image's left (a
 //   matrix whose column 0 points right would mirror the image: warning, rendered unmirrored).
 //   fov with fov_axis x (Mitsuba's default), y, smaller, larger or diagonal, or

@@ -106,6 +106,11 @@ void validate_scene(const Scene& scene) {
     const glm::vec3 side = glm::cross(dir, c.up);
     if (glm::dot(side, side) == 0.0f)
         fail("scene '{}': camera up vector is zero or parallel to the view direction", name);
+    if (!(std::isfinite(c.lens_radius) && c.lens_radius >= 0.0f))
+        fail("scene '{}': camera lens radius {} must be finite and >= 0 (0: pinhole)", name,
+             c.lens_radius);
+    if (!(std::isfinite(c.focus_distance) && c.focus_distance > 0.0f))
+        fail("scene '{}': camera focus distance {} must be finite and > 0", name, c.focus_distance);
 }
 
 bool has_light(const Scene& scene) {
