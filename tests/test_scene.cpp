@@ -460,6 +460,107 @@ TEST_CASE("validate_scene names each defect", "[unit][scene][parser]") {
     CHECK_THAT(error_of([&] { wp::validate_scene(s); }), Contains("up vector"));
 }
 
+TEST_CASE("validate_scene: the parameters each kind reads, with their ranges",
+          "[unit][scene][parser]") {
+    using wp::MaterialKind;
+    auto with = [](wp::Material m) {
+        wp::Scene s;
+        s.name = "t";
+        m.name = "m";
+        wp::Mesh b = wp::make_box({0, 0, 0}, {1, 1, 1});
+        s.add_mesh(b.positions, b.triangles, s.add_material(m));
+        return s;
+    };
+    auto message = [&](const wp::Material& m) {
+        const wp::Scene s = with(m);
+        return error_of([&] { wp::validate_scene(s); });
+    };
+    auto ok = [&](const wp::Material& m) {
+        const wp::Scene s = with(m);
+        wp::validate_scene(s);
+        return true;
+    };
+    auto kind = [](MaterialKind k) {
+        wp::Material m;
+        m.kind = k;
+        return m;
+    };
+    const float nan = std::nanf("");
+
+    // Roughness: glossy (0, 1]; the rough kinds [1e-4, 2], alpha_v too
+    wp::Material g = kind(MaterialKind::Glossy);
+    g.alpha = 1.5f;
+    CHECK_THAT(message(g), Contains("'m', glossy") && Contains("roughness alpha 1.5") &&
+                               Contains("(0, 1]"));
+    for (MaterialKind k : {MaterialKind::RoughConductor, MaterialKind::RoughDielectric,
+                           MaterialKind::RoughPlastic}) {
+        wp::Material m = kind(k);
+        m.alpha = 2.0f;
+        CHECK(ok(m));
+        m.alpha = 1e-4f;
+        CHECK(ok(m));
+        m.alpha = 2.5f;
+        CHECK_THAT(message(m), Contains("roughness alpha 2.5") && Contains("[0.0001, 2]"));
+        m.alpha = 5e-5f;
+        CHECK_THAT(message(m), Contains("roughness alpha"));
+        m.alpha = nan;
+        CHECK_THAT(message(m), Contains("roughness alpha nan"));
+        m.alpha = 0.3f;
+        m.alpha_v = 3.0f;
+        CHECK_THAT(message(m), Contains("alpha_v 3"));
+        m.alpha_v = 0.01f;
+        CHECK(ok(m));
+    }
+    // Kinds without ALPHA do not read it: any value passes
+    wp::Material c = kind(MaterialKind::Conductor);
+    c.alpha = 7.0f;
+    CHECK(ok(c));
+
+    // Index of refraction and specular tint of the IOR kinds
+    for (MaterialKind k : {MaterialKind::Glass, MaterialKind::RoughDielectric,
+                           MaterialKind::ThinDielectric, MaterialKind::Plastic,
+                           MaterialKind::RoughPlastic}) {
+        wp::Material m = kind(k);
+        m.ior = 100.0f;
+        CHECK(ok(m));
+        m.ior = 0.01f;
+        CHECK(ok(m));
+        m.ior = 101.0f;
+        CHECK_THAT(message(m), Contains("index of refraction 101") && Contains("[0.01, 100]"));
+        m.ior = 0.0f;
+        CHECK_THAT(message(m), Contains("index of refraction 0"));
+        m.ior = nan;
+        CHECK_THAT(message(m), Contains("index of refraction"));
+        m.ior = 1.5f;
+        m.specular = glm::vec3(0.5f, 1.5f, 0.5f);
+        CHECK_THAT(message(m), Contains("specular tint (0.5, 1.5, 0.5)") && Contains("[0, 1]"));
+        m.specular = glm::vec3(-0.1f);
+        CHECK_THAT(message(m), Contains("specular tint"));
+    }
+    wp::Material d = kind(MaterialKind::Diffuse);
+    d.ior = 0.0f;
+    d.specular = glm::vec3(9.0f);
+    d.eta = glm::vec3(-1.0f);
+    CHECK(ok(d));  // not read by diffuse
+
+    // Conductors' η and k: finite, >= 0 (0 allowed: η 0 k 1 is the default)
+    for (MaterialKind k : {MaterialKind::Conductor, MaterialKind::RoughConductor}) {
+        wp::Material m = kind(k);
+        CHECK(ok(m));
+        m.eta = glm::vec3(0.2f, -0.1f, 1.0f);
+        CHECK_THAT(message(m), Contains("conductor eta (0.2, -0.1, 1)") && Contains(">= 0"));
+        m.eta = glm::vec3(0.2f, INFINITY, 1.0f);
+        CHECK_THAT(message(m), Contains("conductor eta") && Contains("finite"));
+        m.eta = glm::vec3(0.2f);
+        m.k = glm::vec3(nan);
+        CHECK_THAT(message(m), Contains("conductor k"));
+        m.k = glm::vec3(-2.0f);
+        CHECK_THAT(message(m), Contains("conductor k (-2, -2, -2)"));
+        m.k = glm::vec3(0.0f);
+        CHECK(ok(m));
+    }
+}
+
 // --- OBJ loader ----------------------------------------------------------------------------
 
 TEST_CASE("load_obj: quads are triangulated into a closed cube", "[unit][scene][parser]") {

@@ -264,6 +264,57 @@ TEST_CASE("gltf: metallic-roughness materials map by the documented rules", "[sc
     CHECK(s.warnings.empty());
 }
 
+TEST_CASE("gltf: transmission maps to the dielectric kinds, rough by roughness²",
+          "[scene][gltf][parser]") {
+    Builder b;
+    int pos = b.positions(kTri);
+    auto glass = [&](const char* name, double rough, json ext) {
+        ext["KHR_materials_transmission"] = {{"transmissionFactor", 1.0}};
+        return b.material({{"name", name},
+                           {"pbrMetallicRoughness", {{"baseColorFactor", {0.9, 0.8, 0.7, 1}},
+                                                     {"metallicFactor", 0},
+                                                     {"roughnessFactor", rough}}},
+                           {"extensions", ext}});
+    };
+    std::vector<int> mats = {
+        glass("rough", 0.5, {{"KHR_materials_ior", {{"ior", 1.33}}}}),
+        glass("smooth", 0.0, json::object()),
+        glass("almost", 0.009, json::object()),          // α = 8.1e-5 < 1e-4: smooth, noted
+        glass("edge", 0.01, {{"KHR_materials_ior", {{"ior", 1000.0}}}}),  // α = 1e-4: rough
+        glass("spec", 1.0, {{"KHR_materials_specular", {{"specularFactor", 0.5}}}}),
+    };
+    json prims = json::array();
+    for (int m : mats) prims.push_back({{"attributes", {{"POSITION", pos}}}, {"material", m}});
+    b.node({{"mesh", b.mesh(prims)}}, true);
+    Scene s = parse_gltf(b.gltf(), "glass.gltf");
+    REQUIRE(s.materials.size() == 5);
+    const auto& m = s.materials;
+    // The base colour is the transmittance; reflection is untinted (specular 1)
+    for (const auto& x : m) {
+        CHECK(x.albedo == glm::vec3(0.9f, 0.8f, 0.7f));
+        CHECK(x.specular == glm::vec3(1.0f));
+        CHECK(x.distribution == wp::MicrofacetModel::GGX);
+        CHECK(!x.separable_g);
+        CHECK(!x.alpha_v);
+    }
+    CHECK(m[0].kind == MaterialKind::RoughDielectric);
+    CHECK(m[0].alpha == 0.25f);  // 0.5²
+    CHECK(m[0].ior == 1.33f);
+    CHECK(m[1].kind == MaterialKind::Glass);
+    CHECK(m[1].ior == 1.5f);
+    CHECK(m[2].kind == MaterialKind::Glass);
+    CHECK(m[3].kind == MaterialKind::RoughDielectric);
+    CHECK(m[3].alpha == 0.01f * 0.01f);
+    CHECK(m[3].ior == 1.5f);  // 1000 is outside [0.01, 100]
+    CHECK(m[4].kind == MaterialKind::RoughDielectric);
+    CHECK(m[4].alpha == 1.0f);
+    // One note for the nearly smooth one, one for KHR_materials_specular
+    REQUIRE(s.warnings.size() == 2);
+    CHECK_THAT(s.warnings[0], Contains("glass.gltf") && Contains("1 transmissive") &&
+                                  Contains("smooth glass"));
+    CHECK_THAT(s.warnings[1], Contains("1 transmissive") && Contains("KHR_materials_specular"));
+}
+
 TEST_CASE("gltf: the first camera, looking down its node's -Z", "[scene][gltf][parser]") {
     Builder b;
     b.j["cameras"] = json::array({{{"type", "perspective"},

@@ -283,6 +283,34 @@ TEST_CASE("parse_obj: materials missing from the MTL get the visible default, wi
     CHECK(has_warning(none, "3 of 3 triangles have no material"));
 }
 
+TEST_CASE("parse_obj: MTL glass: Tf is the transmittance, Ni outside [0.01, 100] is 1.5",
+          "[scene][obj][parser]") {
+    std::string obj = "mtllib lib.mtl\nv 0 0 0\nv 1 0 0\nv 0 1 0\n";
+    for (const char* m : {"water", "huge", "tiny", "metal"})
+        obj += std::string("usemtl ") + m + "\nf 1 2 3\n";
+    const wp::MtlSource lib = [](const std::string&) -> std::optional<std::string> {
+        return "newmtl water\nillum 7\nNi 1.33\nTf 0.9 0.8 0.7\n"
+               "newmtl huge\nillum 7\nNi 1000\n"
+               "newmtl tiny\nillum 4\nNi 0.001\n"
+               // A metal as ../shared/scenes writes one: Pm/Pr are not read, Ns gives α
+               "newmtl metal\nKd 0 0 0\nKs 0.9 0.6 0.5\nNs 198\nPm 1\nPr 0.1\nillum 3\n";
+    };
+    wp::Scene s = wp::parse_obj(obj, "dir/g.obj", lib);
+    REQUIRE(s.materials.size() == 4);
+    auto m = [&](int t) { return s.materials[s.material_ids[std::size_t(t)]]; };
+    CHECK(m(0).kind == wp::MaterialKind::Glass);
+    CHECK(m(0).ior == 1.33f);
+    CHECK(m(0).albedo == glm::vec3(0.9f, 0.8f, 0.7f));
+    CHECK(m(0).specular == glm::vec3(1.0f));  // reflection untinted
+    CHECK(m(1).ior == 1.5f);
+    CHECK(m(2).ior == 1.5f);
+    CHECK(has_warning(s, "material 'huge': glass without a usable Ni (1000)"));
+    CHECK(has_warning(s, "material 'tiny': glass without a usable Ni (0.001)"));
+    CHECK(m(3).kind == wp::MaterialKind::Glossy);
+    CHECK(m(3).albedo == glm::vec3(0.9f, 0.6f, 0.5f));
+    CHECK(m(3).alpha == Approx(0.1f).epsilon(1e-6));  // sqrt(2 / (198 + 2))
+}
+
 TEST_CASE("parse_obj: mtllib is read beside the origin and only from regular files",
           "[scene][obj][parser]") {
     ObjTempDir dir;

@@ -230,7 +230,7 @@ View accessor_view(const tinygltf::Model& model, int index, std::size_t elem_siz
 
 // Approximations met while mapping materials: one warning each per file.
 struct Notes {
-    int partial_metal = 0, rough_glass = 0, clamped = 0;
+    int partial_metal = 0, rough_glass = 0, clamped = 0, specular_ext = 0;
     int modes = 0, sparse = 0, quantized = 0, ortho = 0;
     int metallic_map = 0, occlusion = 0, blend = 0, cut_out = 0, wrap = 0, texcoord = 0;
     int no_source = 0, attributes = 0, non_finite = 0, bad_transform = 0;
@@ -507,11 +507,21 @@ Material convert_material(const tinygltf::Material& gm, int index, GltfTextures&
     const double transmission = ext_number("KHR_materials_transmission", "transmissionFactor", 0.0);
 
     if (has_transmission && transmission >= 0.5) {
-        m.kind = MaterialKind::Glass;
+        // A dielectric: the base colour tints the transmission only (the spec's
+        // dielectric_brdf reflects untinted), GGX with height-correlated masking as the
+        // spec's V_GGX; smooth below the rough kinds' least α
         m.albedo = base;
         const double ior = ext_number("KHR_materials_ior", "ior", 1.5);
-        m.ior = ior > 0.0 && ior != 1.0 ? float(ior) : 1.5f;
-        if (roughness > 0.0f) ++notes.rough_glass;
+        m.ior = ior >= limits::kMinIor && ior <= limits::kMaxIor && ior != 1.0 ? float(ior) : 1.5f;
+        const float a = roughness * roughness;
+        if (a >= limits::kMinMicrofacetAlpha) {
+            m.kind = MaterialKind::RoughDielectric;
+            m.alpha = a;
+        } else {
+            m.kind = MaterialKind::Glass;
+            if (roughness > 0.0f) ++notes.rough_glass;
+        }
+        if (gm.extensions.count("KHR_materials_specular") > 0) ++notes.specular_ext;
     } else if (metallic >= 0.5f) {
         const float a = roughness * roughness;
         m.albedo = base;
@@ -549,7 +559,7 @@ Material convert_material(const tinygltf::Material& gm, int index, GltfTextures&
     const auto& mrt = pbr.metallicRoughnessTexture;
     if (mrt.index >= 0) {
         ++notes.metallic_map;
-        if (m.kind == MaterialKind::Glossy)
+        if (m.kind == MaterialKind::Glossy || m.kind == MaterialKind::RoughDielectric)
             if (auto r = tex.ref(mrt.index, mrt.texCoord, mrt.extensions, TextureUse::Data,
                                  where + ".pbrMetallicRoughness.metallicRoughnessTexture"))
                 m.roughness_map = *r;
@@ -921,7 +931,8 @@ Scene parse_gltf(std::string_view bytes, const fs::path& origin) {
     };
     note(notes.partial_metal, "{} material(s) have metallicFactor between 0 and 1; rounded to 0 or 1");
     note(notes.metallic_map, "{} material(s) have a metallicRoughnessTexture; its roughness (G) is "
-                             "read for glossy metals, its metallic (B) is not modelled "
+                             "read for glossy metals and rough transmission, its metallic (B) is "
+                             "not modelled "
                              "(metallicFactor decides)");
     note(notes.occlusion, "{} material(s) have an occlusionTexture; ignored (a path tracer "
                           "computes occlusion)");
@@ -940,7 +951,11 @@ Scene parse_gltf(std::string_view bytes, const fs::path& origin) {
                            "type or quantized (or a TANGENT without NORMAL); ignored");
     note(notes.non_finite, "{} normal, uv or tangent value(s) are not finite; replaced by none "
                            "(zero) or (0, 0)");
-    note(notes.rough_glass, "{} transmissive material(s) are rough; rendered as smooth glass");
+    note(notes.rough_glass, "{} transmissive material(s) have a roughness below 0.01 (alpha = "
+                            "roughness^2 below 1e-4); rendered as smooth glass");
+    note(notes.specular_ext, "{} transmissive material(s) have KHR_materials_specular; not "
+                             "modelled (wavepath's dielectrics reflect with the exact Fresnel "
+                             "term of their ior)");
     note(notes.clamped, "{} material(s) have baseColorFactor outside [0, 1]; clamped");
     note(notes.modes, "{} primitive(s) are not TRIANGLES (points, lines, strips, fans); skipped");
     note(notes.sparse, "{} primitive(s) use sparse accessors; skipped");

@@ -21,8 +21,14 @@
 // fails; non-finite values become none / (0, 0) (noted once).
 //
 // Materials (metallic-roughness → wavepath), first rule that matches wins:
-//   KHR_materials_transmission, transmissionFactor >= 0.5 → Glass, ior = KHR_materials_ior
-//                                                          (1.5 when absent), albedo = base
+//   KHR_materials_transmission, transmissionFactor >= 0.5 → RoughDielectric with GGX α =
+//                                                          roughness² (height-correlated G, as
+//                                                          the spec's V_GGX), or Glass when
+//                                                          α < 1e-4 (noted once when rough);
+//                                                          ior = KHR_materials_ior (1.5 when
+//                                                          absent, 1 or outside [0.01, 100]);
+//                                                          albedo (transmittance) = base,
+//                                                          reflection untinted (specular 1)
 //   metallicFactor >= 0.5, GGX alpha = roughness² < 0.001  → Mirror, albedo = base colour
 //   metallicFactor >= 0.5                                   → Glossy, albedo = base colour,
 //                                                            roughness alpha (at most 1)
@@ -33,7 +39,8 @@
 // data: URIs or buffer views, each decoded once per use; a missing or undecodable image is a
 // warning and a visible placeholder):
 //   baseColorTexture (colour)         → albedo_map, × the base colour factor
-//   metallicRoughnessTexture (data)   → roughness_map of Glossy (α = (roughnessFactor · G)²:
+//   metallicRoughnessTexture (data)   → roughness_map of Glossy and RoughDielectric
+//                                       (α = (roughnessFactor · G)²:
 //                                       alpha stays roughnessFactor², the device multiplies
 //                                       G²); its metallic (B) is not modelled (noted once)
 //   emissiveTexture (colour)          → emission_map, × emission (only when that is > 0)
@@ -48,8 +55,12 @@
 // texture, a factor below the cutoff leaves nothing: the primitive is not added (noted once).
 // BLEND is approximated as MASK with cutoff 0.5 (noted once). OPAQUE ignores alpha (spec).
 // ONE warning per file for each other approximation: metallic between 0 and 1 rounded, rough
-// glass rendered smooth, base colour clamped. Specular/dielectric reflection of non-metals
-// (glTF's F0 = 0.04 layer) is not modelled. A primitive without a material gets the mid-grey
+// glass below α 1e-4 rendered smooth, KHR_materials_specular on transmission (not modelled:
+// its factors change glTF's Schlick Fresnel, which no tint of wavepath's exact Fresnel
+// reproduces), base colour clamped. The metallic-roughness metal stays the glossy kind (its
+// metal is Schlick with F0 = base colour, which is what glossy models; no η, k).
+// Specular/dielectric reflection of non-metals (glTF's F0 = 0.04 layer) is not modelled.
+// A primitive without a material gets the mid-grey
 // (0.5) diffuse "default", without a warning (glTF allows it).
 //
 // Camera: the first node in the walk that has a camera. Perspective: vertical fov = yfov;

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <array>
 #include <cctype>
+#include <charconv>
 #include <cmath>
 #include <limits>
 #include <map>
@@ -18,6 +19,7 @@
 #include <nlohmann/json.hpp>
 
 #include "scene/load.h"
+#include "scene/metals.h"
 #include "scene/normals.h"
 #include "scene/procedural.h"
 #include "scene/shape_uv.h"
@@ -349,6 +351,10 @@ std::string suggest(std::string_view word, std::span<const std::string_view> kno
         {"normalmap", "normal_map"},   {"bump", "normal_map"}, {"opacity", "alpha_texture"},
         {"mask", "alpha_texture"},     {"cutoff", "alpha_cutoff"}, {"smoothing", "smooth"},
         {"crease", "smooth"},          {"filter_type", "filter"},
+        {"alpha_u", "roughness_u"},    {"alpha_v", "roughness_v"}, {"uroughness", "roughness_u"},
+        {"vroughness", "roughness_v"}, {"specular_reflectance", "specular"},
+        {"specular_transmittance", "transmittance"}, {"int_ior", "ior"}, {"material", "metal"},
+        {"ks", "specular"},            {"distrib", "distribution"}, {"specular", "reflectance"},
     };
     auto is_known = [&](std::string_view k) {
         return std::find(known.begin(), known.end(), k) != known.end();
@@ -445,6 +451,26 @@ constexpr std::array<std::string_view, 5> kShapeTypes{"mesh", "quad", "box", "sp
 constexpr std::array<std::string_view, 4> kTransformKeys{"matrix", "scale", "rotate", "translate"};
 constexpr std::array<std::string_view, 2> kRotateKeys{"axis", "degrees"};
 
+// Kinds by what their colours mean (material_kinds.h): plastics (a diffuse base under a
+// dielectric coat), dielectrics (the other kinds with an index of refraction).
+bool is_plastic(MaterialKind k) { return k == MaterialKind::Plastic || k == MaterialKind::RoughPlastic; }
+bool is_dielectric(MaterialKind k) { return uses_ior(k) && !is_plastic(k); }
+
+// The keys a material of kind k takes besides type, reflectance, emission and the texture
+// slots (docs/scene-format.md), by the columns of material_kinds.h.
+std::vector<std::string_view> material_kind_keys(MaterialKind k) {
+    std::vector<std::string_view> keys;
+    if (k == MaterialKind::Glossy)
+        keys.insert(keys.end(), {"roughness", "exponent", "roughness_texture"});
+    else if (uses_alpha(k))
+        keys.insert(keys.end(), {"roughness", "roughness_u", "roughness_v", "distribution", "g",
+                                 "roughness_texture"});
+    if (uses_eta_k(k)) keys.insert(keys.end(), {"eta", "k", "metal"});
+    if (is_dielectric(k)) keys.insert(keys.end(), {"ior", "specular", "transmittance"});
+    if (is_plastic(k)) keys.insert(keys.end(), {"ior", "specular", "nonlinear"});
+    return keys;
+}
+
 struct MaterialEntry {
     std::string name;
     Material material;
@@ -455,6 +481,16 @@ struct MaterialEntry {
 };
 
 constexpr double kNoMax = double(std::numeric_limits<float>::max());
+
+// The decimal number a float limit was written as (1e-4f → 1e-4, not 9.99999974e-05): the
+// bound the file's numbers are checked against and the one the message shows; a number that
+// passes becomes a float within the limit.
+double decimal(float x) {
+    const std::string text = fmt::format("{}", x);
+    double d = x;
+    std::from_chars(text.data(), text.data() + text.size(), d);
+    return d;
+}
 
 class Reader {
 public:
@@ -832,24 +868,26 @@ Material Reader::read_material(const Json& v, const Path& p, std::vector<TexSpec
     }
     Material m;
     m.kind = *material_kind_from_string(type);
-    // The parameters of the kind (material_kinds.h columns ALPHA and IOR), then the textures.
+    // The keys of the kind (material_kind_keys), then the textures.
     std::vector<std::string_view> allowed{"type", "reflectance", "emission"};
-    if (uses_alpha(m.kind)) allowed.insert(allowed.end(), {"roughness", "exponent", "roughness_texture"});
-    if (uses_ior(m.kind)) allowed.push_back("ior");
+    for (std::string_view k : material_kind_keys(m.kind)) allowed.push_back(k);
     allowed.insert(allowed.end(), {"albedo_texture", "emission_texture", "normal_map",
                                    "normal_scale", "alpha_texture", "alpha_cutoff"});
     for (auto it = v.begin(); it != v.end(); ++it) {
         const std::string& k = it.key();
         if (std::find(allowed.begin(), allowed.end(), k) != allowed.end()) continue;
-        if (k == "roughness" || k == "exponent" || k == "ior" || k == "roughness_texture") {
-            std::vector<std::string_view> owners;  // the kinds that take k
-            for (int i = 0; i < kMaterialKindCount; ++i)
-                if (k == "ior" ? uses_ior(MaterialKind(i)) : uses_alpha(MaterialKind(i)))
-                    owners.push_back(kMaterialTypes[i]);
+        std::vector<std::string_view> owners;  // the kinds that take k
+        for (int i = 0; i < kMaterialKindCount; ++i)
+            for (std::string_view x : material_kind_keys(MaterialKind(i)))
+                if (x == k) owners.push_back(kMaterialTypes[i]);
+        if (!owners.empty()) {
+            std::string hint = suggest(k, allowed);
             error_at_key(p.key(k),
-                         "'{}' does not apply to a {} material (it is a key of {} materials); a "
-                         "{} material takes: {}",
-                         k, type, join(owners), type, join(allowed));
+                         "'{}' does not apply to a {} material (it is a key of {} materials){}; "
+                         "a {} material takes: {}",
+                         k, type, join(owners),
+                         hint.empty() ? "" : fmt::format(" (did you mean '{}'?)", hint), type,
+                         join(allowed));
         }
         check_keys(v, p, allowed, fmt::format("a {} material", type));
     }
@@ -867,27 +905,120 @@ Material Reader::read_material(const Json& v, const Path& p, std::vector<TexSpec
     if (const Json* x = find(v, "alpha_cutoff"))
         m.alpha_cutoff = real_in(*x, p.key("alpha_cutoff"), 0.0, 1.0, false, false);
 
-    // Specular kinds (mirror, glass) tint; the others reflect 0.8 by default (1 with a texture).
-    const bool tint = is_specular(m.kind);
-    m.albedo = glm::vec3(tint || has("albedo_texture") ? 1.0f : 0.8f);
+    // Colours. "reflectance" is Material::albedo (what albedo_texture multiplies): the
+    // diffuse reflectance of diffuse and plastics (0.8), glossy's F0 (0.8), the tint of
+    // mirror and conductors (1); on dielectrics the tint of reflection and transmission
+    // both (1), which "specular" and "transmittance" give one by one.
+    const bool reflects_diffusely = m.kind == MaterialKind::Diffuse ||
+                                    m.kind == MaterialKind::Glossy || is_plastic(m.kind);
+    m.albedo = glm::vec3(!reflects_diffusely || has("albedo_texture") ? 1.0f : 0.8f);
     if (const Json* x = find(v, "reflectance")) m.albedo = color(*x, p.key("reflectance"), 0.0f, 1.0f);
+    if (is_dielectric(m.kind)) {
+        if (has("reflectance"))
+            for (const char* k : {"specular", "transmittance"})
+                if (has(k))
+                    error_at_key(p.key(k),
+                                 "give either \"reflectance\" (the tint of reflection and "
+                                 "transmission) or \"specular\" and \"transmittance\", not both");
+        m.specular = m.albedo;
+        if (const Json* x = find(v, "transmittance"))
+            m.albedo = color(*x, p.key("transmittance"), 0.0f, 1.0f);
+    }
+    if (const Json* x = find(v, "specular")) m.specular = color(*x, p.key("specular"), 0.0f, 1.0f);
     if (has("emission_texture")) m.emission = glm::vec3(1.0f);
     if (const Json* x = find(v, "emission")) m.emission = color(*x, p.key("emission"), 0.0f, kNoMax);
-    if (uses_alpha(m.kind)) {
+
+    // Roughness: glossy (the original lobe) takes α in [1e-4, 1] or a Phong exponent; the
+    // rough kinds α in [1e-4, 2], isotropic or per axis, and their microfacet model
+    if (m.kind == MaterialKind::Glossy) {
         const Json* r = find(v, "roughness");
         const Json* e = find(v, "exponent");
         if (r && e)
             error_at_key(p.key("exponent"),
                          "give either \"roughness\" (GGX alpha) or \"exponent\", not both");
         if (has("roughness_texture")) m.alpha = 1.0f;  // alpha = G² of the texture
-        if (r) {
-            const double a = real_in(*r, p.key("roughness"), 1e-4, 1.0, false, false);
-            m.alpha = static_cast<float>(a);
-        }
+        if (r) m.alpha = real_in(*r, p.key("roughness"), 1e-4, 1.0, false, false);
         if (e) m.alpha = phong_exponent_to_alpha(real_in(*e, p.key("exponent"), 0.0, kNoMax, false, false));
+    } else if (uses_alpha(m.kind)) {
+        const double lo = decimal(limits::kMinMicrofacetAlpha), hi = decimal(limits::kMaxMicrofacetAlpha);
+        const Json* r = find(v, "roughness");
+        const Json* ru = find(v, "roughness_u");
+        const Json* rv = find(v, "roughness_v");
+        if (r && (ru || rv))
+            error_at_key(p.key(ru ? "roughness_u" : "roughness_v"),
+                         "give either \"roughness\" (isotropic) or \"roughness_u\" and "
+                         "\"roughness_v\", not both");
+        if (bool(ru) != bool(rv))
+            error_at_key(p.key(ru ? "roughness_u" : "roughness_v"),
+                         "\"roughness_u\" and \"roughness_v\" go together (give both)");
+        if (ru && has("roughness_texture"))
+            error_at_key(p.key("roughness_texture"),
+                         "\"roughness_texture\" needs an isotropic \"roughness\" (not "
+                         "\"roughness_u\"/\"roughness_v\")");
+        m.alpha = has("roughness_texture") ? 1.0f : limits::kDefaultMicrofacetAlpha;
+        if (r) m.alpha = real_in(*r, p.key("roughness"), lo, hi, false, false);
+        if (ru) {
+            m.alpha = real_in(*ru, p.key("roughness_u"), lo, hi, false, false);
+            m.alpha_v = real_in(*rv, p.key("roughness_v"), lo, hi, false, false);
+        }
+        if (const Json* x = find(v, "distribution")) {
+            constexpr std::array<std::string_view, 2> names{"ggx", "beckmann"};
+            const std::string d = string(*x, p.key("distribution"));
+            if (d == "ggx")
+                m.distribution = MicrofacetModel::GGX;
+            else if (d == "beckmann")
+                m.distribution = MicrofacetModel::Beckmann;
+            else
+                error(p.key("distribution"), "unknown distribution '{}'; expected one of: {}",
+                      printable(d), join(names));
+        }
+        if (const Json* x = find(v, "g")) {
+            constexpr std::array<std::string_view, 2> names{"height-correlated", "separable"};
+            const std::string g = string(*x, p.key("g"));
+            if (g != names[0] && g != names[1])
+                error(p.key("g"), "unknown masking-shadowing '{}'; expected one of: {}",
+                      printable(g), join(names));
+            m.separable_g = g == "separable";
+        }
+    }
+
+    // Conductors: "eta" and "k", or a named "metal"; neither: η 0, k 1 (reflects everything)
+    if (uses_eta_k(m.kind)) {
+        const Json* eta = find(v, "eta");
+        const Json* k = find(v, "k");
+        const Json* metal = find(v, "metal");
+        if (metal && (eta || k))
+            error_at_key(p.key(eta ? "eta" : "k"),
+                         "give either \"metal\" or \"eta\" and \"k\", not both");
+        if (bool(eta) != bool(k))
+            error_at_key(p.key(eta ? "eta" : "k"), "\"eta\" and \"k\" go together (give both)");
+        if (eta) {
+            m.eta = color(*eta, p.key("eta"), 0.0f, kNoMax);
+            m.k = color(*k, p.key("k"), 0.0f, kNoMax);
+        }
+        if (metal) {
+            const std::string name = string(*metal, p.key("metal"));
+            std::vector<std::string_view> names{"none"};
+            for (const MetalIor& x : metal_table()) names.push_back(x.name);
+            if (const MetalIor* x = find_metal(name)) {
+                m.eta = x->eta;
+                m.k = x->k;
+            } else if (name != "none") {
+                std::string hint = suggest(name, names);
+                error(p.key("metal"), "unknown metal '{}'{}; expected one of: {}", printable(name),
+                      hint.empty() ? "" : fmt::format(" (did you mean '{}'?)", hint), join(names));
+            }
+        }
     }
     if (uses_ior(m.kind))
-        if (const Json* x = find(v, "ior")) m.ior = real_in(*x, p.key("ior"), 0.0, 10.0, true, false);
+        if (const Json* x = find(v, "ior"))
+            m.ior = real_in(*x, p.key("ior"), decimal(limits::kMinIor), decimal(limits::kMaxIor),
+                            false, false);
+    if (const Json* x = find(v, "nonlinear")) {
+        if (!x->is_boolean())
+            error(p.key("nonlinear"), "expected true or false, got {}", describe(*x));
+        m.nonlinear = x->get<bool>();
+    }
     return m;
 }
 

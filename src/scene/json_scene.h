@@ -23,16 +23,32 @@
 //   "render"      optional defaults that --spp, --depth and --seed on the command line beat:
 //     "spp" 1..2^24, "depth" (bounces, as --depth) 0..2^20, "seed" 0..2^32-1 (util/limits.h)
 //   "materials"   object: name → material
-//     "type"          "diffuse" | "mirror" | "glossy" | "glass"  (required)
-//     "reflectance"   albedo (diffuse, glossy: F0) or tint (mirror, glass): number or
-//                     [r, g, b] in [0, 1]  [0.8 diffuse and glossy, 1 mirror and glass]
+//     "type"          a kind of kernels/shared/material_kinds.h (required): "diffuse" |
+//                     "mirror" | "glossy" | "glass" | "conductor" | "roughconductor" |
+//                     "roughdielectric" | "thindielectric" | "plastic" | "roughplastic"
+//     "reflectance"   Material::albedo, number or [r, g, b] in [0, 1]: diffuse reflectance
+//                     (diffuse, plastics), F0 (glossy), tint (mirror, conductors); on the
+//                     dielectrics (glass, roughdielectric, thindielectric) the tint of both
+//                     reflection and transmission (sets albedo and specular)
+//                     [0.8 diffuse, glossy, plastics; 1 the others]
 //     "emission"      emitted radiance, front (counter-clockwise) side only: number or
 //                     [r, g, b] >= 0; any type  [0]
-//     "roughness"     glossy: GGX alpha in [0.0001, 1], stored as given
-//     "exponent"      glossy: a Phong exponent e >= 0 instead, alpha = sqrt(2 / (e + 2))
-//                     [100, alpha ≈ 0.14]
-//     "ior"           glass: index of refraction inside / outside, in (0, 10]   [1.5]
-//     "albedo_texture", "roughness_texture" (kinds with roughness), "emission_texture",
+//     glossy:  "roughness" GGX alpha in [0.0001, 1], stored as given, or "exponent": a Phong
+//              exponent e >= 0, alpha = sqrt(2 / (e + 2))  [100, alpha ≈ 0.14]
+//     roughconductor, roughdielectric, roughplastic:
+//              "roughness" α in [0.0001, 2] [0.1], or "roughness_u" and "roughness_v"
+//              (anisotropic α_u along the shading frame's x, α_v); "distribution" "ggx" |
+//              "beckmann" ["ggx"]; "g" (masking-shadowing) "height-correlated" | "separable"
+//              ["height-correlated"]
+//     conductor, roughconductor: "eta" and "k" (number or [r, g, b] >= 0, both), or "metal":
+//              a name of scene/metals.h ("Au", "Cu", ...; "none": η 0, k 1)  [η 0, k 1]
+//     dielectrics: "ior" inside / outside in [0.01, 100] [1.5]; "specular" (reflection tint)
+//              and "transmittance" (Material::albedo), each in [0, 1] [1], instead of
+//              "reflectance"
+//     plastics: "ior" [1.5], "specular" (the coat's reflection tint) [1], "nonlinear"
+//              true | false [false] (Mitsuba's)
+//     "albedo_texture", "roughness_texture" (kinds with roughness; the rough kinds: with an
+//                     isotropic "roughness" only), "emission_texture",
 //     "normal_map", "alpha_texture": a texture, each multiplying its constant (reflectance,
 //                     roughness: alpha × G², emission; whose default becomes 1 with a
 //                     texture): a file name relative to the scene file, or {"file": ...,

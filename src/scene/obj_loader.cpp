@@ -14,6 +14,7 @@
 #include "scene/texture.h"
 #include "scene/validate.h"
 #include "util/error.h"
+#include "util/limits.h"
 #include "util/read_file.h"
 
 namespace wp {
@@ -438,8 +439,10 @@ Material convert_material(const tinyobj::material_t& mt, const MtlInfo& info, Mt
         glm::vec3 tf = vec3(mt.transmittance);
         m.albedo = max3(mt.transmittance) > 0.0f ? clamped("Tf", tf) : glm::vec3(1.0f);
         const float ior = float(mt.ior);
-        m.ior = std::isfinite(ior) && ior > 0.0f && ior != 1.0f ? ior : 1.5f;
-        if (!(std::isfinite(ior) && ior > 0.0f && ior != 1.0f))
+        const bool usable = ior >= limits::kMinIor && ior <= limits::kMaxIor &&
+                            ior != 1.0f;  // (NaN: false)
+        m.ior = usable ? ior : 1.5f;
+        if (!usable)
             warnings.push_back(fmt::format("{}: material '{}': glass without a usable Ni ({}); "
                                            "using 1.5", file, mt.name, ior));
         ignored(mt.diffuse_texname, "map_Kd", "glass has no diffuse colour");

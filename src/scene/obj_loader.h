@@ -19,12 +19,18 @@
 // <= 0.001, and Ks "perfect" means every channel >= 0.999:
 //   Ke                                                   → emission (any kind; negative → 0)
 //   illum 4, 6 or 7                                      → Glass, η = Ni (1.5 with a warning
-//                                                          when Ni is missing, ≤ 0 or 1),
-//                                                          albedo = Tf (1 when Tf ≈ 0)
+//                                                          when Ni is missing, 1 or outside
+//                                                          [0.01, 100]), albedo = Tf (the
+//                                                          transmittance; 1 when Tf ≈ 0);
+//                                                          reflection untinted (specular 1)
 //   illum 3 or 5, Kd ≈ 0, Ks > 0, and Ns >= 1000 or Ks perfect
 //                                                        → Mirror, albedo = Ks
 //   illum 2, 3 or 5, Kd ≈ 0, Ks > 0 (Ns finite)          → Glossy, albedo = Ks, α from exponent Ns
 //   anything else                                        → Diffuse, albedo = Kd
+// Conductors are not recognised as such: MTL has no complex index of refraction, and the
+// PBR extension's Pm (metallic) / Pr (roughness) are not read (no exact mapping from an F0
+// such as Ks to η, k exists), so a metal written as Kd 0, Ks = F0, Ns, illum 3 is Glossy
+// (Schlick with F0 = Ks, GGX α from Ns). Comments are never parsed.
 // Albedos are clamped to [0, 1]. A material with both Kd and Ks that asks for reflection
 // (illum 3 or 5) becomes Diffuse with a warning (wavepath has no layered material);
 // illum 9 (glass without refraction) is rendered as the kind above with a warning.

@@ -5,6 +5,7 @@
 #include <fmt/format.h>
 
 #include "util/error.h"
+#include "util/limits.h"
 
 namespace wp {
 
@@ -15,6 +16,39 @@ bool finite(glm::vec3 v) {
 }
 
 } // namespace
+
+void validate_material_parameters(const Material& m, const std::string& what) {
+    const auto in = [](float x, float lo, float hi) { return x >= lo && x <= hi; };  // NaN: false
+    if (m.kind == MaterialKind::Glossy) {
+        if (!(m.alpha > 0.0f && m.alpha <= 1.0f))
+            fail("{} has roughness alpha {}, which must be in (0, 1]", what, m.alpha);
+    } else if (uses_alpha(m.kind)) {
+        if (!in(m.alpha, limits::kMinMicrofacetAlpha, limits::kMaxMicrofacetAlpha))
+            fail("{} has roughness alpha {}, which must be in [{}, {}]", what, m.alpha,
+                 limits::kMinMicrofacetAlpha, limits::kMaxMicrofacetAlpha);
+        if (m.alpha_v && !in(*m.alpha_v, limits::kMinMicrofacetAlpha, limits::kMaxMicrofacetAlpha))
+            fail("{} has roughness alpha_v {}, which must be in [{}, {}]", what, *m.alpha_v,
+                 limits::kMinMicrofacetAlpha, limits::kMaxMicrofacetAlpha);
+    }
+    if (uses_ior(m.kind)) {
+        if (!in(m.ior, limits::kMinIor, limits::kMaxIor))
+            fail("{} has index of refraction {}, which must be in [{}, {}]", what, m.ior,
+                 limits::kMinIor, limits::kMaxIor);
+        const glm::vec3 s = m.specular;
+        if (!finite(s) || glm::any(glm::lessThan(s, glm::vec3(0.0f))) ||
+            glm::any(glm::greaterThan(s, glm::vec3(1.0f))))
+            fail("{} has specular tint ({}, {}, {}) outside [0, 1]", what, s.x, s.y, s.z);
+    }
+    if (uses_eta_k(m.kind)) {
+        const glm::vec3 e = m.eta, k = m.k;
+        if (!finite(e) || glm::any(glm::lessThan(e, glm::vec3(0.0f))))
+            fail("{} has conductor eta ({}, {}, {}), which must be finite and >= 0", what, e.x,
+                 e.y, e.z);
+        if (!finite(k) || glm::any(glm::lessThan(k, glm::vec3(0.0f))))
+            fail("{} has conductor k ({}, {}, {}), which must be finite and >= 0", what, k.x, k.y,
+                 k.z);
+    }
+}
 
 void validate_scene(const Scene& scene) {
     const std::string& name = scene.name.empty() ? std::string("(unnamed)") : scene.name;
@@ -55,17 +89,8 @@ void validate_scene(const Scene& scene) {
             fail("scene '{}': material {} ('{}') has emission ({}, {}, {}), which must be finite "
                  "and >= 0",
                  name, i, m.name, e.x, e.y, e.z);
-        if (m.kind == MaterialKind::Glossy && !(m.alpha > 0.0f && m.alpha <= 1.0f))
-            fail("scene '{}': material {} ('{}') has roughness alpha {}, which must be in (0, 1]",
-                 name, i, m.name, m.alpha);
-        // The rough kinds: α (α_u) and α_v in [1e-4, 2] (util/limits.h)
-        if (uses_alpha(m.kind) && m.kind != MaterialKind::Glossy)
-            for (float a : {m.alpha, m.alpha_v.value_or(m.alpha)})
-                if (!(a >= limits::kMinMicrofacetAlpha && a <= limits::kMaxMicrofacetAlpha))
-                    fail("scene '{}': material {} ('{}') has roughness alpha {}, which must be in "
-                         "[{}, {}]",
-                         name, i, m.name, a, limits::kMinMicrofacetAlpha,
-                         limits::kMaxMicrofacetAlpha);
+        validate_material_parameters(m, fmt::format("scene '{}': material {} ('{}', {})", name, i,
+                                                     m.name, to_string(m.kind)));
     }
 
     // Camera: a film, a direction, a field of view

@@ -56,9 +56,14 @@ constexpr double kMaxCreaseDeg = 180.0;
 // Microfacet roughness α of the rough material kinds (roughconductor, roughdielectric,
 // roughplastic; not the glossy kind, which takes (0, 1]): [kMinMicrofacetAlpha,
 // kMaxMicrofacetAlpha] (issue 14's contract). Loaders map a smaller α to the smooth kind and
-// clamp a larger one, each with a note.
+// clamp a larger one, each with a note. Their default in JSON files is Mitsuba 3's.
 constexpr float kMinMicrofacetAlpha = 1e-4f;
 constexpr float kMaxMicrofacetAlpha = 2.0f;
+constexpr float kDefaultMicrofacetAlpha = 0.1f;
+// Index of refraction (inside / outside) of the kinds that read one (scene/validate.cpp,
+// the loaders).
+constexpr float kMinIor = 0.01f;
+constexpr float kMaxIor = 100.0f;
 
 // The estimator's defaults (sampling, glossy model, sampler, Russian roulette) are
 // kernels/shared/estimator.h's, read by the kernels and render::Estimator alike.
