@@ -53,6 +53,18 @@ constexpr double kMaxEnvScale = 1e6;
 constexpr double kMaxEnvRotateDeg = 360.0;
 constexpr double kMaxCreaseDeg = 180.0;
 
+// Scene files (scene/pbrt_loader.h; the other loaders keep their own local caps for now):
+// each file read at most kMaxSceneFileBytes; Include/Import nested at most kMaxIncludeDepth
+// deep and at most kMaxIncludes files in all (a file included twice counts twice, so a
+// diamond of includes cannot grow exponentially); AttributeBegin/TransformBegin/ObjectBegin
+// nested at most kMaxAttributeDepth deep; at most kMaxSceneTriangles triangles in all,
+// instances flattened (a scene over it is an error naming the directive that passed it).
+constexpr std::int64_t kMaxSceneFileBytes = std::int64_t(1) << 30;
+constexpr int kMaxIncludeDepth = 32;
+constexpr int kMaxIncludes = 4096;
+constexpr int kMaxAttributeDepth = 4096;
+constexpr std::int64_t kMaxSceneTriangles = std::int64_t(1) << 25;
+
 // The estimator's defaults (sampling, glossy model, sampler, Russian roulette) are
 // kernels/shared/estimator.h's, read by the kernels and render::Estimator alike.
 
