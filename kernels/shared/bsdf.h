@@ -44,13 +44,19 @@
 #include "materials/mirror.h"
 #include "materials/glossy.h"
 #include "materials/glass.h"
+#include "materials/conductor.h"
+#include "materials/roughconductor.h"
+#include "materials/roughdielectric.h"
+#include "materials/thindielectric.h"
+#include "materials/plastic.h"
+#include "materials/roughplastic.h"
 
 WP_NAMESPACE_BEGIN
 
 // Whether every event of m's kind is a Dirac lobe (material_kinds.h SPECULAR): shade skips
 // next-event estimation there. Unknown kinds: 0.
 WP_FN int wp_material_is_specular(MaterialData m) {
-#define WP_KIND_SPECULAR_(KIND, Kind, name, specular, alpha, ior) \
+#define WP_KIND_SPECULAR_(KIND, Kind, name, specular, alpha, ior, etak) \
     if (m.kind == WP_MATERIAL_##KIND) return specular;
     WP_MATERIAL_KINDS(WP_KIND_SPECULAR_)
 #undef WP_KIND_SPECULAR_
@@ -61,7 +67,7 @@ WP_FN int wp_material_is_specular(MaterialData m) {
 WP_FN int wp_bsdf_sample_pdf(MaterialData m, float3 d, float3 ns, int front, float4 u,
                              float3* wo, float3* weight, float* pdf, int* specular) {
     *specular = 0;
-#define WP_KIND_SAMPLE_(KIND, Kind, name, spec, alpha, ior)                          \
+#define WP_KIND_SAMPLE_(KIND, Kind, name, spec, alpha, ior, etak)                          \
     if (WP_HAVE_##KIND && m.kind == WP_MATERIAL_##KIND)                               \
         return wp_##name##_sample(m, d, ns, front, u, wo, weight, pdf, specular);
     WP_MATERIAL_KINDS(WP_KIND_SAMPLE_)
@@ -85,7 +91,7 @@ WP_FN float3 wp_bsdf_eval(MaterialData m, float3 d, float3 ns, float3 wi, float*
     float cos_i = dot(wi, ns);
     *pdf = 0.0f;
     if (!(cos_i > 0.0f)) return zero;
-#define WP_KIND_EVAL_(KIND, Kind, name, spec, alpha, ior) \
+#define WP_KIND_EVAL_(KIND, Kind, name, spec, alpha, ior, etak) \
     if (WP_HAVE_##KIND && m.kind == WP_MATERIAL_##KIND) return wp_##name##_eval(m, d, ns, wi, cos_i, pdf);
     WP_MATERIAL_KINDS(WP_KIND_EVAL_)
 #undef WP_KIND_EVAL_

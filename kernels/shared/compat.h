@@ -93,7 +93,7 @@ struct __align__(32) float8 { float s[8]; };
 static_assert(sizeof(float8) == 32, "float8 as in OpenCL");
 
 // Scalar builtins that CUDA names differently. min, max, fabs, sqrt, fmin, fmax, fma,
-// floor, copysign, isfinite, isnan, isinf, sin, cos, tan, exp, log, pow, acos, asin, atan2,
+// floor, copysign, isfinite, isnan, isinf, sin, cos, tan, exp, log, pow, acos, asin, atan2, erf,
 // log2, exp2, round, trunc are CUDA's
 // own float overloads (IEEE, correctly rounded where OpenCL requires it; no fast math).
 __device__ inline uint as_uint(float f) { return __float_as_uint(f); }
@@ -184,6 +184,7 @@ using std::pow;
 using std::acos;
 using std::asin;
 using std::atan2;
+using std::erf;
 using std::log2;
 using std::exp2;
 using std::round;

@@ -141,6 +141,8 @@ typedef struct TraceStats {
     X(__builtin_offsetof(CameraData, jitter)) X(sizeof(MaterialData))                     \
     X(__builtin_offsetof(MaterialData, emission)) X(__builtin_offsetof(MaterialData, kind)) \
     X(__builtin_offsetof(MaterialData, ior)) X(__builtin_offsetof(MaterialData, alpha))   \
+    X(__builtin_offsetof(MaterialData, specular)) X(__builtin_offsetof(MaterialData, k))  \
+    X(__builtin_offsetof(MaterialData, flags)) X(__builtin_offsetof(MaterialData, table)) \
     X(sizeof(PathState)) X(__builtin_offsetof(PathState, pixel))                          \
     X(__builtin_offsetof(PathState, sample)) X(__builtin_offsetof(PathState, item))        \
     X(__builtin_offsetof(PathState, cone))                                               \
@@ -163,6 +165,11 @@ typedef struct TraceStats {
 // Render stage types (generate / shade / accumulate; see kernels/*.cl and src/render/)
 // ===================================================================================
 
+// Flags of MaterialData.flags.
+#define WP_MF_BECKMANN 1        // rough kinds: Beckmann distribution (else GGX)
+#define WP_MF_SEPARABLE_G 2     // rough kinds: G = G1(wo) G1(wi) (else height-correlated)
+#define WP_PLASTIC_NONLINEAR 4  // plastics: Mitsuba's nonlinear internal scattering
+
 // Pinhole camera as the generate stage reads it (built by scene/upload). 80 bytes.
 // The ray through image position (px, py) in pixels (0,0 = top-left corner of the image)
 // has direction forward + ((2 px / width) - 1) * right + (1 - (2 py / height)) * up.
@@ -177,15 +184,25 @@ typedef struct CameraData {
     int pad;         // 0
 } CameraData;
 
-// A material as the shade stage reads it. 48 bytes. Kinds: material_kinds.h.
+// A material as the shade stage reads it. 112 bytes. Kinds and the meaning of the colours:
+// material_kinds.h. Parameters a kind does not read are 0.
 typedef struct MaterialData {
-    float4 albedo;    // xyz: reflectance in [0, 1] per channel; w: 0
+    float4 albedo;    // xyz: the kind's main colour in [0, 1] (material_kinds.h); w: 0
     float4 emission;  // xyz: emitted radiance (W sr^-1 m^-2), front side only; w: 0
     int kind;         // WP_MATERIAL_* (material_kinds.h)
-    float ior;        // kinds that read it (glass): index of refraction, inside (behind the
-                      // front face) / outside; 0 for other kinds
-    float alpha;      // kinds that read it (glossy): GGX roughness α as given; 0 for others
-    int pad;          // 0
+    float ior;        // kinds with IOR: index of refraction, inside (behind the front face) /
+                      // outside
+    float alpha;      // kinds with ALPHA: microfacet roughness α (α_u when anisotropic)
+    float alpha_v;    // kinds with ALPHA: α_v (= alpha when isotropic)
+    float4 specular;  // xyz: reflection tint of dielectrics and plastics; w: plastics: the
+                      // probability weight of the coat (Mitsuba's specular sampling weight)
+    float4 eta;       // xyz: conductors: η per channel; w: 0
+    float4 k;         // xyz: conductors: k per channel; w: 0
+    int flags;        // WP_MF_BECKMANN | WP_MF_SEPARABLE_G | WP_PLASTIC_NONLINEAR
+    int table;        // roughplastic: first float of its tables in the material-table buffer;
+                      // -1 otherwise
+    int pad0;         // 0
+    int pad1;         // 0
 } MaterialData;
 
 // ===================================================================================
@@ -330,8 +347,10 @@ static_assert(sizeof(wp::TraceStats) == 8);
 // Render stage types.
 static_assert(sizeof(wp::CameraData) == 80 && offsetof(wp::CameraData, width) == 64 &&
               offsetof(wp::CameraData, jitter) == 72);
-static_assert(sizeof(wp::MaterialData) == 48 && offsetof(wp::MaterialData, kind) == 32 &&
-              offsetof(wp::MaterialData, ior) == 36 && offsetof(wp::MaterialData, alpha) == 40);
+static_assert(sizeof(wp::MaterialData) == 112 && offsetof(wp::MaterialData, kind) == 32 &&
+              offsetof(wp::MaterialData, ior) == 36 && offsetof(wp::MaterialData, alpha) == 40 &&
+              offsetof(wp::MaterialData, specular) == 48 && offsetof(wp::MaterialData, k) == 80 &&
+              offsetof(wp::MaterialData, flags) == 96 && offsetof(wp::MaterialData, table) == 100);
 static_assert(sizeof(wp::PathState) == 32 && offsetof(wp::PathState, pixel) == 16 &&
               offsetof(wp::PathState, sample) == 20 && offsetof(wp::PathState, item) == 24 &&
               offsetof(wp::PathState, cone) == 28);

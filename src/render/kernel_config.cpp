@@ -75,7 +75,7 @@ std::string KernelConfig::generate_options() const {
 
 std::string KernelConfig::shade_options() const {
     std::string o;
-#define WP_KIND_OPTION_(KIND, Kind, name, specular, alpha, ior) \
+#define WP_KIND_OPTION_(KIND, Kind, name, specular, alpha, ior, etak) \
     o += fmt::format("-D WP_HAVE_" #KIND "={} ", int(has(MaterialKind::Kind)));
     WP_MATERIAL_KINDS(WP_KIND_OPTION_)
 #undef WP_KIND_OPTION_

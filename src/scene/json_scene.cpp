@@ -410,7 +410,7 @@ constexpr std::array<std::string_view, 8> kCameraKeys{"position", "look_at", "up
 constexpr std::array<std::string_view, 3> kRenderKeys{"spp", "depth", "seed"};
 // The kinds' names, in the order of kernels/shared/material_kinds.h.
 constexpr std::array<std::string_view, kMaterialKindCount> kMaterialTypes{
-#define WP_KIND_NAME_(KIND, Kind, name, specular, alpha, ior) #name,
+#define WP_KIND_NAME_(KIND, Kind, name, specular, alpha, ior, etak) #name,
     WP_MATERIAL_KINDS(WP_KIND_NAME_)
 #undef WP_KIND_NAME_
 };

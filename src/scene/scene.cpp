@@ -17,11 +17,11 @@ namespace {
 struct KindInfo {
     MaterialKind kind;
     const char* name;
-    bool specular, alpha, ior;
+    bool specular, alpha, ior, etak;
 };
 constexpr KindInfo kKinds[] = {
-#define WP_KIND_ROW_(KIND, Kind, name, specular, alpha, ior) \
-    {MaterialKind::Kind, #name, specular != 0, alpha != 0, ior != 0},
+#define WP_KIND_ROW_(KIND, Kind, name, specular, alpha, ior, etak) \
+    {MaterialKind::Kind, #name, specular != 0, alpha != 0, ior != 0, etak != 0},
     WP_MATERIAL_KINDS(WP_KIND_ROW_)
 #undef WP_KIND_ROW_
 };
@@ -58,6 +58,11 @@ bool uses_alpha(MaterialKind k) {
 bool uses_ior(MaterialKind k) {
     const KindInfo* i = info(k);
     return i && i->ior;
+}
+
+bool uses_eta_k(MaterialKind k) {
+    const KindInfo* i = info(k);
+    return i && i->etak;
 }
 
 Aabb Scene::bounds() const {

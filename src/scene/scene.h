@@ -23,7 +23,7 @@ namespace wp {
 
 // One enumerator per line of kernels/shared/material_kinds.h, same numbering as the device.
 enum class MaterialKind : std::uint32_t {
-#define WP_KIND_ENUM_(KIND, Kind, name, specular, alpha, ior) Kind = WP_MATERIAL_##KIND,
+#define WP_KIND_ENUM_(KIND, Kind, name, specular, alpha, ior, etak) Kind = WP_MATERIAL_##KIND,
     WP_MATERIAL_KINDS(WP_KIND_ENUM_)
 #undef WP_KIND_ENUM_
 };
@@ -37,6 +37,10 @@ std::optional<MaterialKind> material_kind_from_string(std::string_view name);
 bool is_specular(MaterialKind k);
 bool uses_alpha(MaterialKind k);
 bool uses_ior(MaterialKind k);
+bool uses_eta_k(MaterialKind k);  // reads Material::eta and ::k (conductors)
+
+// The microfacet distribution of the rough kinds (kernels/shared/microfacet.h).
+enum class MicrofacetModel : std::uint32_t { GGX, Beckmann };
 
 // GGX roughness α of a Phong exponent e >= 0 given by a scene (OBJ Ns, JSON "exponent",
 // the built-in scenes): α = sqrt(2 / (e + 2)) (Walter et al. 2007, section 5.2), in float
@@ -77,9 +81,25 @@ struct Material {
     MaterialKind kind = MaterialKind::Diffuse;
     glm::vec3 albedo{0.8f};    // reflectance in [0, 1] per channel
     glm::vec3 emission{0.0f};  // emitted radiance (W sr^-1 m^-2), front side only
-    // GGX roughness α in (0, 1] (kinds with ALPHA: glossy); default: Phong exponent 100.
+    // Microfacet roughness α of the kinds with ALPHA; default: Phong exponent 100. The glossy
+    // kind takes α in (0, 1]; the rough kinds (roughconductor, roughdielectric, roughplastic)
+    // take α in [1e-4, 2] and read it as α_u (along the frame's x) when alpha_v is set.
     float alpha = phong_exponent_to_alpha(100.0f);
-    float ior = 1.5f;          // index of refraction inside / outside (front side), Glass only
+    std::optional<float> alpha_v;  // anisotropic roughness along the frame's y; unset: isotropic
+    MicrofacetModel distribution = MicrofacetModel::GGX;  // rough kinds
+    // Masking-shadowing of the rough kinds: G1(wo) G1(wi) (Mitsuba 3) when true, else the
+    // height-correlated 1 / (1 + Λ(wo) + Λ(wi)) (pbrt-v4, and the glossy kind).
+    bool separable_g = false;
+    float ior = 1.5f;          // index of refraction inside / outside (front side); kinds with
+                               // IOR (glass, the dielectrics, the plastics' coat)
+    glm::vec3 specular{1.0f};  // reflection tint of dielectrics and plastics (Mitsuba's
+                               // specular_reflectance); albedo is their transmittance /
+                               // diffuse reflectance (material_kinds.h)
+    // Conductors: complex index of refraction η + i k per channel, relative to the outside;
+    // the default (η 0, k 1) reflects everything at every angle (Mitsuba's material "none").
+    glm::vec3 eta{0.0f};
+    glm::vec3 k{1.0f};
+    bool nonlinear = false;    // plastics: Mitsuba's `nonlinear` (internal scattering tints)
     // Textures (kernels/shared/texture.h); each multiplies the constant it names:
     TextureRef albedo_map;     // RGB × albedo (diffuse colour, glossy/mirror F0 or tint)
     TextureRef roughness_map;  // α × G² (glTF metallicRoughness: G is perceptual roughness;

@@ -41,7 +41,20 @@ SceneUpload upload_scene(const Scene& scene) {
         d.emission = row(m.emission);
         d.kind = static_cast<int>(m.kind);
         d.ior = uses_ior(m.kind) ? m.ior : 0.0f;
-        d.alpha = uses_alpha(m.kind) ? m.alpha : 0.0f;
+        if (uses_alpha(m.kind)) {
+            d.alpha = m.alpha;
+            d.alpha_v = m.alpha_v.value_or(m.alpha);
+            if (m.distribution == MicrofacetModel::Beckmann) d.flags |= WP_MF_BECKMANN;
+            if (m.separable_g) d.flags |= WP_MF_SEPARABLE_G;
+        }
+        if (uses_ior(m.kind)) d.specular = row(m.specular);
+        if (uses_eta_k(m.kind)) {
+            d.eta = row(m.eta);
+            d.k = row(m.k);
+        }
+        if (m.nonlinear && (m.kind == MaterialKind::Plastic || m.kind == MaterialKind::RoughPlastic))
+            d.flags |= WP_PLASTIC_NONLINEAR;
+        d.table = -1;
         up.materials.push_back(d);
     }
     up.background = row(scene.background);

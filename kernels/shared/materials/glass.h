@@ -1,8 +1,9 @@
 // glass.h — a smooth dielectric (material_kinds.h: GLASS) with index of refraction
 // η = m.ior (inside / outside; the front face is the outside): reflection with the exact
 // Fresnel reflectance F (unpolarised, Born & Wolf; pbrt-v4 FrDielectric), else refraction
-// by Snell's law, chosen with probability F / 1 − F, so the weight is albedo for reflection
-// and albedo / η_rel² for refraction (radiance is compressed entering a denser medium;
+// by Snell's law, chosen with probability F / 1 − F, so the weight is m.specular for
+// reflection (Mitsuba's specular_reflectance) and albedo / η_rel² for refraction (albedo:
+// the transmittance, specular_transmittance) (radiance is compressed entering a denser medium;
 // pbrt-v4 DielectricBxDF, TransportMode::Radiance); total internal reflection reflects
 // always. Specular. The contract of wp_<name>_sample / wp_<name>_eval is in bsdf.h.
 #ifndef WP_MATERIAL_GLASS_H
@@ -36,7 +37,6 @@ WP_FN float wp_fresnel_dielectric(float cos_i, float eta, float* cos_t) {
 
 WP_FN int wp_glass_sample(MaterialData m, float3 d, float3 ns, int front, float4 u,
                           float3* wo, float3* weight, float* pdf, int* specular) {
-    float3 albedo = wp_xyz(m.albedo);
     float eta = front ? 1.0f / m.ior : m.ior;  // η_i / η_t
     float cos_i = -dot(d, ns);
     float cos_t;
@@ -45,10 +45,10 @@ WP_FN int wp_glass_sample(MaterialData m, float3 d, float3 ns, int front, float4
     *pdf = 0.0f;
     if (u.z < f) {
         *wo = wp_reflect(d, ns);
-        *weight = albedo;
+        *weight = wp_xyz(m.specular);
     } else {
         *wo = normalize(d * eta + ns * (eta * cos_i - cos_t));
-        *weight = albedo * (eta * eta);
+        *weight = wp_xyz(m.albedo) * (eta * eta);
     }
     return 1;
 }

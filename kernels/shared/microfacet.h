@@ -1,0 +1,203 @@
+// microfacet.h — the microfacet distributions of the rough material kinds (roughconductor,
+// roughdielectric, roughplastic) and the conductor Fresnel term.
+//
+// Local frame: +z is the (shading) normal, x is wp_onb(n)'s t (sampling.h; Duff et al. 2017,
+// which is Mitsuba 3's coordinate_system, so anisotropic roughness runs along the same axes as
+// Mitsuba's on meshes without uvs). Distributions, anisotropic with widths α_x, α_y:
+//   GGX (Trowbridge-Reitz): D(h) = 1 / (π α_x α_y (h_x²/α_x² + h_y²/α_y² + h_z²)²),
+//     Λ(w) = (−1 + sqrt(1 + (α_x² w_x² + α_y² w_y²) / w_z²)) / 2 (Walter et al. 2007; Heitz 2014);
+//   Beckmann: D(h) = exp(−(h_x²/α_x² + h_y²/α_y²) / h_z²) / (π α_x α_y h_z⁴),
+//     Λ(w) = (erf(a) − 1) / 2 + exp(−a²) / (2 a sqrt(π)), a = w_z / sqrt(α_x² w_x² + α_y² w_y²).
+// Masking-shadowing G(wo, wi): height-correlated 1 / (1 + Λ(wo) + Λ(wi)) (Heitz 2014; pbrt-v4)
+// or separable G1(wo) G1(wi) (Mitsuba 3), per material (WP_MF_SEPARABLE_G).
+// Visible normals (density D_w(h) = G1(w) max(0, w·h) D(h) / w_z): GGX by Heitz 2018
+// ("Sampling the GGX Distribution of Visible Normals", JCGT 7(4)), Beckmann by the
+// stretch-and-sample-slopes method (Heitz & d'Eon 2014) with Jakob's 2014 slope sampler
+// (which Mitsuba 3 uses).
+#ifndef WP_MICROFACET_H
+#define WP_MICROFACET_H
+
+#include "sampling.h"
+#include "types.h"
+
+WP_NAMESPACE_BEGIN
+
+// A material's distribution: widths along x and y, Beckmann or GGX, separable G or not.
+typedef struct Microfacet {
+    float ax, ay;
+    int beckmann;
+    int separable;
+} Microfacet;
+
+WP_FN Microfacet wp_microfacet(MaterialData m) {
+    Microfacet mf;
+    mf.ax = m.alpha;
+    mf.ay = m.alpha_v;
+    mf.beckmann = (m.flags & WP_MF_BECKMANN) != 0;
+    mf.separable = (m.flags & WP_MF_SEPARABLE_G) != 0;
+    return mf;
+}
+
+// D(h): microfacet normals per steradian per unit projected area; 0 for h_z <= 0.
+WP_FN float wp_mf_d(Microfacet mf, float3 h) {
+    if (!(h.z > 0.0f)) return 0.0f;
+    float x = h.x / mf.ax, y = h.y / mf.ay;
+    float z2 = h.z * h.z;
+    if (mf.beckmann) {
+        float e = (x * x + y * y) / z2;
+        return exp(-e) / (WP_PI * mf.ax * mf.ay * z2 * z2);
+    }
+    float t = x * x + y * y + z2;
+    return 1.0f / (WP_PI * mf.ax * mf.ay * t * t);
+}
+
+// Smith Λ(w); FLT_MAX at or below the horizon.
+WP_FN float wp_mf_lambda(Microfacet mf, float3 w) {
+    if (!(w.z != 0.0f)) return FLT_MAX;
+    float ax = mf.ax * w.x, ay = mf.ay * w.y;
+    float t2 = (ax * ax + ay * ay) / (w.z * w.z);  // (α tan θ)² along w's azimuth
+    if (!mf.beckmann) return 0.5f * (-1.0f + sqrt(1.0f + t2));
+    if (!(t2 > 0.0f)) return 0.0f;
+    float a = 1.0f / sqrt(t2);
+    return 0.5f * (erf(a) - 1.0f) + exp(-a * a) / (2.0f * a * 1.7724538509055160f);
+}
+
+WP_FN float wp_mf_g1(Microfacet mf, float3 w) {
+    if (!(w.z > 0.0f)) return 0.0f;
+    return 1.0f / (1.0f + wp_mf_lambda(mf, w));
+}
+
+// G(wo, wi) for directions on the normal's side (callers flip transmitted directions).
+WP_FN float wp_mf_g(Microfacet mf, float3 wo, float3 wi) {
+    if (mf.separable) return wp_mf_g1(mf, wo) * wp_mf_g1(mf, wi);
+    return 1.0f / (1.0f + wp_mf_lambda(mf, wo) + wp_mf_lambda(mf, wi));
+}
+
+// erf⁻¹(x) for x in (−1, 1) in single precision (Giles 2010, "Approximating the erfinv
+// function", the float version; relative error ~ 4e-7 inside the domain).
+WP_FN float wp_erfinv(float x) {
+    float w = -log((1.0f - x) * (1.0f + x));
+    float p;
+    if (w < 5.0f) {
+        w = w - 2.5f;
+        p = 2.81022636e-08f;
+        p = 3.43273939e-07f + p * w;
+        p = -3.5233877e-06f + p * w;
+        p = -4.39150654e-06f + p * w;
+        p = 0.00021858087f + p * w;
+        p = -0.00125372503f + p * w;
+        p = -0.00417768164f + p * w;
+        p = 0.246640727f + p * w;
+        p = 1.50140941f + p * w;
+    } else {
+        w = sqrt(w) - 3.0f;
+        p = -0.000200214257f;
+        p = 0.000100950558f + p * w;
+        p = 0.00134934322f + p * w;
+        p = -0.00367342844f + p * w;
+        p = 0.00573950773f + p * w;
+        p = -0.0076224613f + p * w;
+        p = 0.00943887047f + p * w;
+        p = 1.00167406f + p * w;
+        p = 2.83297682f + p * w;
+    }
+    return p * x;
+}
+
+// A slope (x̃, ỹ) of the isotropic unit-width Beckmann distribution of slopes visible from a
+// direction with cos θ = cos_theta and azimuth 0 (Jakob 2014, "An Improved Visible Normal
+// Sampling Routine for the Beckmann Distribution": the x̃ marginal's CDF inverted by a
+// bisection-safeguarded Newton iteration in the erf domain; ỹ is independent, Gaussian).
+WP_FN float2 wp_beckmann_sample_slope11(float cos_theta, float u1, float u2) {
+    const float inv_sqrt_pi = 0.56418958354775628f;
+    if (cos_theta > 0.9999f) {  // normal incidence: the whole distribution is visible
+        float r = sqrt(-log(1.0f - u1));
+        float phi = 2.0f * WP_PI * u2;
+        return make_float2(r * cos(phi), r * sin(phi));
+    }
+    float sin_theta = sqrt(max(0.0f, 1.0f - cos_theta * cos_theta));
+    float tan_theta = sin_theta / cos_theta, cot_theta = cos_theta / sin_theta;
+    float a = -1.0f, c = erf(cot_theta);
+    float ux = max(u1, 1e-6f);
+    // Initial guess: Jakob's fit of the inverse CDF.
+    float theta = acos(cos_theta);
+    float fit = 1.0f + theta * (-0.876f + theta * (0.4265f - 0.0594f * theta));
+    float b = c - (1.0f + c) * pow(1.0f - ux, fit);
+    float norm = 1.0f / (1.0f + c + inv_sqrt_pi * tan_theta * exp(-cot_theta * cot_theta));
+    for (int it = 0; it < 10; ++it) {
+        if (!(b >= a && b <= c)) b = 0.5f * (a + c);
+        float x = wp_erfinv(b);
+        float value = norm * (1.0f + b + inv_sqrt_pi * tan_theta * exp(-x * x)) - ux;
+        if (fabs(value) < 1e-5f) break;
+        float derivative = norm * (1.0f - x * tan_theta);
+        if (value > 0.0f)
+            c = b;
+        else
+            a = b;
+        b -= value / derivative;
+    }
+    return make_float2(wp_erfinv(b), wp_erfinv(2.0f * max(u2, 1e-6f) - 1.0f));
+}
+
+// A microfacet normal h with density D_w(h) = G1(w) max(0, w·h) D(h) / w_z (w_z > 0).
+WP_FN float3 wp_mf_sample_vndf(Microfacet mf, float3 w, float u1, float u2) {
+    // Stretch the direction to the unit-width configuration.
+    float3 wh = normalize(make_float3(mf.ax * w.x, mf.ay * w.y, w.z));
+    if (mf.beckmann) {
+        // Slopes of the unit distribution seen from wh, rotated to wh's azimuth, unstretched.
+        float sin_t = sqrt(max(0.0f, 1.0f - wh.z * wh.z));
+        float cphi = sin_t > 0.0f ? wh.x / sin_t : 1.0f, sphi = sin_t > 0.0f ? wh.y / sin_t : 0.0f;
+        float2 s = wp_beckmann_sample_slope11(wh.z, u1, u2);
+        float sx = (cphi * s.x - sphi * s.y) * mf.ax;
+        float sy = (sphi * s.x + cphi * s.y) * mf.ay;
+        return normalize(make_float3(-sx, -sy, 1.0f));
+    }
+    // GGX: Heitz 2018, listing 1.
+    float lensq = wh.x * wh.x + wh.y * wh.y;
+    float3 t1 = lensq > 0.0f ? make_float3(-wh.y, wh.x, 0.0f) * (1.0f / sqrt(lensq))
+                             : make_float3(1.0f, 0.0f, 0.0f);
+    float3 t2 = cross(wh, t1);
+    float r = sqrt(u1);
+    float phi = 2.0f * WP_PI * u2;
+    float p1 = r * cos(phi);
+    float p2 = r * sin(phi);
+    float s = 0.5f * (1.0f + wh.z);
+    p2 = (1.0f - s) * sqrt(max(0.0f, 1.0f - p1 * p1)) + s * p2;
+    float3 nh = t1 * p1 + t2 * p2 + wh * sqrt(max(0.0f, 1.0f - p1 * p1 - p2 * p2));
+    return normalize(make_float3(mf.ax * nh.x, mf.ay * nh.y, max(1e-6f, nh.z)));
+}
+
+// The density of wp_mf_sample_vndf: D_w(h) = G1(w) max(0, w·h) D(h) / w_z.
+WP_FN float wp_mf_pdf_vndf(Microfacet mf, float3 w, float3 h) {
+    if (!(w.z > 0.0f)) return 0.0f;
+    return wp_mf_g1(mf, w) * max(0.0f, dot(w, h)) * wp_mf_d(mf, h) / w.z;
+}
+
+// Fresnel reflectance of a conductor with complex index of refraction η + i k (per channel,
+// relative to the outside) for unpolarised light at cos θ_i = cos_i (exact: pbrt-v3's
+// FrConductor, equal to pbrt-v4's FrComplex and Mitsuba 3's fresnel_conductor).
+WP_FN float wp_fresnel_conductor1(float cos_i, float eta, float k) {
+    float c = clamp(cos_i, 0.0f, 1.0f);
+    float c2 = c * c, s2 = 1.0f - c2;
+    float eta2 = eta * eta, k2 = k * k;
+    float t0 = eta2 - k2 - s2;
+    float a2b2 = sqrt(t0 * t0 + 4.0f * eta2 * k2);
+    float t1 = a2b2 + c2;
+    float a = sqrt(max(0.0f, 0.5f * (a2b2 + t0)));
+    float t2 = 2.0f * c * a;
+    float rs = (t1 - t2) / (t1 + t2);
+    float t3 = c2 * a2b2 + s2 * s2;
+    float t4 = t2 * s2;
+    float rp = rs * (t3 - t4) / (t3 + t4);
+    return 0.5f * (rp + rs);
+}
+
+WP_FN float3 wp_fresnel_conductor(float cos_i, float3 eta, float3 k) {
+    return make_float3(wp_fresnel_conductor1(cos_i, eta.x, k.x),
+                       wp_fresnel_conductor1(cos_i, eta.y, k.y),
+                       wp_fresnel_conductor1(cos_i, eta.z, k.z));
+}
+
+WP_NAMESPACE_END
+
+#endif  // WP_MICROFACET_H
