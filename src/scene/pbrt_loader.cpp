@@ -214,7 +214,9 @@ struct Loc {
     int line = 0, col = 0;
 };
 
-enum class TokKind { Word, String, Open, Close };
+// EndImport: the end of an Imported file, returned once after its last token so that its last
+// directive is done before the importing file's graphics state comes back.
+enum class TokKind { Word, String, Open, Close, EndImport };
 
 struct Token {
     TokKind kind = TokKind::Word;
@@ -344,6 +346,7 @@ struct Source {
     bool import = false;
     std::size_t saved_depth = 0;  // import: the state stack depth to return to
     GState saved_state;           // import: the importing file's state
+    bool saved_object = false;    // import: inside ObjectBegin when it began
     Loc loc;                      // the Include / Import directive
 };
 
@@ -385,6 +388,7 @@ class Reader {
     std::deque<std::string> texts_;    // included files' contents (stable)
     std::deque<std::string> escaped_;  // strings with escapes, decoded (stable)
     std::vector<Source> sources_;
+    std::vector<Source> ended_imports_;  // imported files read to their end, not yet closed
     std::optional<Token> pending_;
     int includes_ = 0;
 
@@ -411,6 +415,7 @@ class Reader {
     std::vector<MatDef> anon_;
     std::map<std::string, MatDef> named_;
     std::vector<MatRef> matrefs_;
+    std::map<std::string, int> named_refs_;  // NamedMaterial name -> its MatRef
     std::vector<Slot> slots_;
     std::map<std::pair<int, int>, int> plain_slots_;  // (matref, light or -1) → slot
     std::vector<TexDef> texdefs_;
@@ -449,6 +454,7 @@ class Reader {
     // Tokens
     std::optional<Token> next_token();
     void end_source();
+    void end_import(const Token& t);
     Token require_token(const Loc& at, const char* what);
     std::string read_string(const Token& dir);
     double read_number(const Token& dir);
@@ -514,13 +520,19 @@ class Reader {
 void Reader::end_source() {
     Source s = std::move(sources_.back());
     sources_.pop_back();
-    if (s.import) {
-        // Imported files may not leave blocks open; their graphics state does not leak
-        if (stack_.size() != s.saved_depth)
-            error(pushes_.back().second, "this block is still open at the end of the imported file");
-        if (current_object_) error(s.loc, "the imported file leaves ObjectBegin open");
-        gs_ = std::move(s.saved_state);
-    }
+    if (s.import) ended_imports_.push_back(std::move(s));
+}
+
+// The end of an imported file: it may not leave blocks open, and its graphics state does not
+// leak into the importing file.
+void Reader::end_import(const Token& t) {
+    Source s = std::move(ended_imports_.back());
+    ended_imports_.pop_back();
+    if (stack_.size() != s.saved_depth)
+        error(pushes_.back().second, "this block is still open at the end of the imported file");
+    if (current_object_ && !s.saved_object)
+        error(t.loc, "the imported file leaves ObjectBegin \"{}\" open", *current_object_);
+    gs_ = std::move(s.saved_state);
 }
 
 std::optional<Token> Reader::next_token() {
@@ -550,7 +562,13 @@ std::optional<Token> Reader::next_token() {
             }
         }
         if (s.pos >= s.text.size()) {
+            const bool import = s.import;
+            Token end;
+            end.kind = TokKind::EndImport;
+            end.text = "end of the imported file";
+            end.loc = Loc{s.file, s.line, s.col};
             end_source();
+            if (import) return end;
             continue;
         }
         Token t;
@@ -627,6 +645,7 @@ std::optional<Token> Reader::next_token() {
 }
 
 std::string token_desc(const Token& t) {
+    if (t.kind == TokKind::EndImport) return "the end of the imported file";
     std::string s(t.text.substr(0, 40));
     if (t.text.size() > 40) s += "...";
     for (char& c : s)
@@ -700,6 +719,8 @@ std::optional<std::string> param_type(std::string_view t) {
 }
 
 void Reader::add_value(Param& p, const Token& t) {
+    if (t.kind == TokKind::EndImport)
+        error(t.loc, "parameter \"{}\": the imported file ends inside its values", p.decl());
     if (t.kind == TokKind::Open)
         error(t.loc, "parameter \"{}\": '[' inside a value list", p.decl());
     if (t.kind == TokKind::String) {
@@ -1076,6 +1097,7 @@ void Reader::include(const Token& t, bool import) {
         s.import = true;
         s.saved_depth = stack_.size();
         s.saved_state = gs_;
+        s.saved_object = current_object_.has_value();
     }
     sources_.push_back(std::move(s));
 }
@@ -1106,6 +1128,10 @@ int Reader::current_slot(const Loc& l) {
 void Reader::parse() {
     while (auto tok = next_token()) {
         const Token t = *tok;
+        if (t.kind == TokKind::EndImport) {
+            end_import(t);
+            continue;
+        }
         if (t.kind != TokKind::Word)
             error(t.loc, "expected a directive, found {}", token_desc(t));
         const std::string_view w = t.text;
@@ -1297,12 +1323,18 @@ void Reader::parse() {
             named_.emplace(name, std::move(def));
         } else if (w == "NamedMaterial") {
             world_only();
-            MatRef r;
-            r.named = true;
-            r.name = read_string(t);
-            r.loc = t.loc;
-            matrefs_.push_back(r);
-            gs_.matref = int(matrefs_.size() - 1);
+            const std::string name = read_string(t);
+            // One reference per name (its first use is where an undefined name is reported),
+            // so that every shape using the name shares one material
+            auto [it, fresh] = named_refs_.try_emplace(name, int(matrefs_.size()));
+            if (fresh) {
+                MatRef r;
+                r.named = true;
+                r.name = name;
+                r.loc = t.loc;
+                matrefs_.push_back(r);
+            }
+            gs_.matref = it->second;
         } else if (w == "Texture") {
             world_only();
             texture(t);
@@ -1756,7 +1788,7 @@ void Reader::roughness(Directive& d, const std::string& prefix, Material& m,
         u = std::sqrt(u);
         v = std::sqrt(v);
     }
-    m.distribution = Microfacet::GGX;
+    m.distribution = MicrofacetModel::GGX;
     m.separable_g = false;
     if (std::max(u, v) < 1e-3f) {
         m.kind = smooth;
