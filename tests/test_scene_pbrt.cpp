@@ -785,6 +785,23 @@ TEST_CASE("pbrt: imagemap and checkerboard textures: pbrt's uv mapping in wavepa
     CHECK(checked > 700);
 }
 
+TEST_CASE("pbrt: a material's normalmap becomes its normal map (linear data, pbrt's lookup)",
+          "[scene][pbrt][parser][texture]") {
+    TempDir d;
+    write_exr(d.path / "n.exr", 2, 2, [](int, int) { return glm::vec3(0.5f, 0.5f, 1.0f); });
+    d.write("s.pbrt", std::string(kHead) + "WorldBegin\nMaterial \"diffuse\" \"string "
+                                           "normalmap\" \"n.exr\"\n"
+                                           "Shape \"trianglemesh\" \"point3 P\" [ 0 0 0 1 0 0 0 1 "
+                                           "0 ] \"point2 uv\" [ 0 0 1 0 0 1 ]\n");
+    Scene s = load_pbrt(d.path / "s.pbrt");
+    const Material& m = only_material(s);
+    REQUIRE(m.normal_map.used());
+    CHECK(m.normal_scale == 1.0f);
+    CHECK(m.normal_map.uv_transform == glm::mat3(1.0f));  // the stored (u, 1 - v) is pbrt's lookup
+    CHECK(s.textures.at(std::size_t(m.normal_map.image)).width == 2);
+    CHECK(s.uvs.size() == s.positions.size());
+}
+
 TEST_CASE("pbrt: scale, mix and constant textures; missing images warn with a placeholder",
           "[scene][pbrt][parser][texture]") {
     Scene s = parse_world("Texture \"k\" \"spectrum\" \"constant\" \"rgb value\" [ 0.2 0.4 0.6 ]\n"

@@ -1885,10 +1885,26 @@ Material Reader::build_material(MatDef& def, int depth, bool* interface) {
     Material m;
     m.name = def.name.empty() ? t : def.name;
     m.kind = MaterialKind::Diffuse;
-    for (const char* common : {"displacement", "normalmap"})
-        if (Param* p = param(d, common, {"float", "texture", "string"}))
-            note(fmt::format("{} {}", common, t), p->loc,
-                 fmt::format("\"{}\" is not supported; ignored", common));
+    if (Param* p = param(d, "displacement", {"float", "texture"}))
+        note("displacement " + t, p->loc, "\"displacement\" is not supported; ignored");
+    // pbrt-v4's normal map: an image read as linear data, (2 rgb - 1) in the frame x = dp/du,
+    // z = n, y = n × x, looked up at (u, 1 - v): wavepath's stored uvs and its tangent frame
+    // (the image's up = +y, scene/normals.h), which is pbrt's wherever the uvs are not mirrored
+    std::optional<TextureRef> normal_map;
+    if (auto nm = get_string(d, "normalmap")) {
+        if (nm->empty()) error(d.loc, "{}: empty \"normalmap\"", d.describe());
+        fs::path p(*nm);
+        if (p.is_relative()) p = dir_ / p;
+        const std::size_t warnings = scene_.warnings.size();
+        const int image = add_texture_file(scene_, p, TextureUse::Data);
+        bool missing = false;
+        for (std::size_t i = warnings; i < scene_.warnings.size(); ++i)
+            missing = missing || scene_.warnings[i].find("texture not loaded") != std::string::npos;
+        if (!missing) normal_map = TextureRef{image, glm::mat3(1.0f)};
+        note("normalmap", d.loc,
+             "normal maps use wavepath's tangent frame, which is pbrt's (x along dp/du, y = n x "
+             "x) except where the uvs are mirrored");
+    }
     if (t == "diffuse") {
         m.albedo = reflectance(d, "reflectance", 0.5f, &m.albedo_map, depth);
     } else if (t == "conductor") {
@@ -1968,6 +1984,10 @@ Material Reader::build_material(MatDef& def, int depth, bool* interface) {
                          c == glm::vec3(0.5f) ? "0.5" : "with its reflectance"));
         m.albedo = c;
         for (Param& q : d.params) q.used = true;
+    }
+    if (normal_map) {
+        m.normal_map = *normal_map;
+        m.normal_scale = 1.0f;
     }
     finish(d);
     return m;
