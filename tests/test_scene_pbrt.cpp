@@ -446,6 +446,13 @@ TEST_CASE("pbrt: ObjectBegin/ObjectInstance are flattened with the instance's tr
                                        s.positions[tr.z] - s.positions[tr.x]);
         CHECK(n.z > 0.0f);
     }
+    // The flattened scene is capped (util/limits.h): 7,000 instances of a 5,120-triangle sphere
+    // pass 2^25 at the 6,554th, which is named before anything is allocated
+    std::string many = "ObjectBegin \"s\"\nShape \"sphere\"\nObjectEnd\n";
+    for (int i = 0; i < 7000; ++i) many += "ObjectInstance \"s\"\n";
+    CHECK_THAT(error_of_world(many),
+               Contains("test.pbrt:6560:1: ObjectInstance \"s\": the flattened scene would have "
+                        "more than 33554432 triangles"));
     // Area lights inside an object are not instanced as lights (as pbrt-v4)
     Scene l = parse_world("ObjectBegin \"l\"\nAreaLightSource \"diffuse\"\n" + std::string(kQuad) +
                           "ObjectEnd\nObjectInstance \"l\"\n");

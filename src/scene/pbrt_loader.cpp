@@ -154,12 +154,12 @@ glm::dvec2 equal_area_sphere_to_square(glm::dvec3 d) {
 // An equal-area square map (pbrt-v4's ImageInfiniteLight) resampled to wavepath's
 // equirectangular map (kernels/shared/envmap.h: column i at u = (i + 1/2) / W, row j at
 // v = j / (H - 1), direction (sin φ sin θ, cos θ, -cos φ sin θ), θ = πv, φ = 2πu), 2N x N
-// for an N x N map. Each texel is pbrt's bilinear lookup (Image::Bilerp with WrapMode
+// for an N x N map (N at most limits::kMaxEnvResampleHeight). Each texel is pbrt's bilinear lookup (Image::Bilerp with WrapMode
 // OctahedralSphere) at EqualAreaSphereToSquare of the texel's direction, read as a direction
 // in the light's own space; the caller sets the environment's rotation to the light's.
 Texture equal_area_to_equirect(const Texture& src) {
     const int n = src.width;
-    const int h = std::max(n, 2), w = 2 * h;
+    const int h = std::clamp(n, 2, limits::kMaxEnvResampleHeight), w = 2 * h;
     auto fetch = [&](int x, int y, int c) {
         // pbrt-v4 RemapPixelCoords, WrapMode::OctahedralSphere
         if (x < 0) {
@@ -425,6 +425,7 @@ class Reader {
     std::map<std::string, ObjectDef> objects_;
     std::optional<std::string> current_object_;
     std::vector<InstanceUse> instances_;
+    std::size_t object_triangles_ = 0;  // in all object definitions
 
     std::map<std::string, Scene> mesh_cache_;
     std::optional<std::string> env_where_;
@@ -2023,8 +2024,7 @@ Material& Reader::resolve_material(const MatRef& r, int depth, bool* interface) 
 // --- Shapes ---------------------------------------------------------------------------------
 
 void Reader::check_triangles(const Loc& l, std::size_t more) const {
-    std::size_t have = scene_.triangles.size();
-    for (const auto& [name, obj] : objects_) have += obj.triangles;
+    const std::size_t have = scene_.triangles.size() + object_triangles_;
     if (have + more > std::size_t(limits::kMaxSceneTriangles))
         error(l, "the scene would have more than {} triangles (util/limits.h)",
               limits::kMaxSceneTriangles);
@@ -2203,6 +2203,7 @@ void Reader::add_geometry(const Loc& l, Geometry g, const glm::dmat4& m, bool re
     if (to_object) {
         ObjectDef& obj = objects_.at(*current_object_);
         obj.triangles += g.triangles.size();
+        object_triangles_ += g.triangles.size();
         obj.shapes.push_back({std::move(g), slot});
         return;
     }
@@ -2280,17 +2281,22 @@ void Reader::shape(Directive d) {
 // --- The end --------------------------------------------------------------------------------
 
 void Reader::instantiate() {
+    // Count first, so that a scene over the cap fails before anything is allocated
+    std::size_t total = scene_.triangles.size();
     for (const InstanceUse& use : instances_) {
         auto it = objects_.find(use.name);
         if (it == objects_.end())
             error(use.loc, "ObjectInstance \"{}\": no ObjectBegin \"{}\" in the scene", use.name,
                   use.name);
-        const ObjectDef& obj = it->second;
-        if (scene_.triangles.size() + obj.triangles > std::size_t(limits::kMaxSceneTriangles))
+        total += it->second.triangles;
+        if (total > std::size_t(limits::kMaxSceneTriangles))
             error(use.loc,
                   "ObjectInstance \"{}\": the flattened scene would have more than {} "
                   "triangles (util/limits.h)",
                   use.name, limits::kMaxSceneTriangles);
+    }
+    for (const InstanceUse& use : instances_) {
+        const ObjectDef& obj = objects_.at(use.name);
         const glm::dmat3 linear(use.ctm);
         const glm::dmat3 normal_matrix = glm::transpose(glm::inverse(linear));
         const bool mirror = glm::determinant(linear) < 0.0;

@@ -64,6 +64,9 @@ constexpr int kMaxIncludeDepth = 32;
 constexpr int kMaxIncludes = 4096;
 constexpr int kMaxAttributeDepth = 4096;
 constexpr std::int64_t kMaxSceneTriangles = std::int64_t(1) << 25;
+// pbrt-v4's square equal-area environment maps are resampled to equirectangular maps of at
+// most 2 x kMaxEnvResampleHeight by kMaxEnvResampleHeight texels.
+constexpr int kMaxEnvResampleHeight = 4096;
 
 // The estimator's defaults (sampling, glossy model, sampler, Russian roulette) are
 // kernels/shared/estimator.h's, read by the kernels and render::Estimator alike.
