@@ -11,9 +11,15 @@
 // pushes  all `count` paths: queue_count[0] = count
 // Launched over count items (padded); items past it return at once. The pixel jitter comes
 // from the sample key (rng.h: seed, pixel, sample), so the rays do not depend on the wave.
+// WP_HAVE_LENS (KernelConfig: the camera has a thin lens) compiles the lens sample (group
+// WP_RNG_LENS); without it, or with lens radius 0, the rays are the pinhole's bit for bit.
 #include "shared/camera.h"
 #include "shared/film.h"
 #include "shared/rng.h"
+
+#ifndef WP_HAVE_LENS
+#define WP_HAVE_LENS 0
+#endif
 
 WP_KERNEL void generate_camera(CameraData camera, uint seed, int first_pixel, uint first_sample,
                                int count, WP_GLOBAL Ray* rays, WP_GLOBAL PathState* paths,
@@ -34,7 +40,15 @@ WP_KERNEL void generate_camera(CameraData camera, uint seed, int first_pixel, ui
     // Position inside the pixel: random with jitter, else its centre.
     float4 u = wp_rng4(seed, (uint)p, sample, 0u, WP_RNG_CAMERA);
     float jx = camera.jitter ? u.x : 0.5f, jy = camera.jitter ? u.y : 0.5f;
-    float3 d = wp_camera_direction(camera, (float)x + jx, (float)y + jy);
+    float px = (float)x + jx, py = (float)y + jy;
+    float3 org = wp_xyz(camera.origin), d;
+#if WP_HAVE_LENS
+    if (camera.lens.x > 0.0f) {
+        float4 ul = wp_rng4(seed, (uint)p, sample, 0u, WP_RNG_LENS);
+        d = wp_camera_lens_ray(camera, px, py, ul.x, ul.y, &org);
+    } else
+#endif
+        d = wp_camera_direction(camera, px, py);
 
 #if WP_INJECT_NAN
     if (wp_inject_here(WP_INJECT_GENERATE, p)) d.x = wp_quiet_nan();
@@ -47,7 +61,7 @@ WP_KERNEL void generate_camera(CameraData camera, uint seed, int first_pixel, ui
         tmax = 0.0f;
     }
     Ray r;
-    r.org = make_float4(camera.origin.x, camera.origin.y, camera.origin.z, 0.0f);
+    r.org = make_float4(org.x, org.y, org.z, 0.0f);
     r.dir = make_float4(d.x, d.y, d.z, tmax);
     rays[i] = r;
     PathState ps;

@@ -126,6 +126,7 @@ WP_FN MaterialData wp_textured_material(MaterialData m, MaterialTextures mt, Tex
     if (mt.roughness >= 0) {
         float g = wp_texture_view(pool, mt.roughness, uv, lod).y;
         m.alpha = max(m.alpha * g * g, 1e-4f);
+        m.alpha_v = max(m.alpha_v * g * g, 1e-4f);  // (= alpha when isotropic)
     }
     if (mt.emission >= 0) {
         float4 c = wp_texture_view(pool, mt.emission, uv, lod);
@@ -342,13 +343,13 @@ WP_FN int wp_shade_path(Ray ray, PathState path, Hit hit, WP_GLOBAL const Triang
             if (!wp_all_finite3(c)) {
                 wp_atomic_inc(&counters[WP_COUNTER_SHADE_NONFINITE]);
             } else if (wp_max_component(c) > 0.0f) {
-                // Towards the environment: a segment beyond the scene; to a triangle: from
-                // the offset origin to the light point offset to its front (hits need
-                // 0 < t < 1).
-                float3 sd = env_sample ? wi * app.env_distance
-                                       : wp_offset_ray_origin(y, yerr, ln, wp_triangle_offset(l0, l1, l2)) - org;
+                // Towards the environment: a segment beyond the scene (hits need 0 < t < 1);
+                // to a triangle: from the offset origin towards the light point, ending short
+                // of the light by the error of the segment's own triangle tests (offset.h).
+                float3 sd = env_sample ? wi * app.env_distance : y - org;
+                float tmax = env_sample ? 1.0f : wp_shadow_tmax(sd, yerr, ln, wp_triangle_offset(l0, l1, l2));
                 shadow_ray->org = make_float4(org.x, org.y, org.z, 0.0f);
-                shadow_ray->dir = make_float4(sd.x, sd.y, sd.z, 1.0f);
+                shadow_ray->dir = make_float4(sd.x, sd.y, sd.z, tmax);
                 *contrib = wp_float4(c, 0.0f);
                 *shadow = 1;
             }

@@ -2,8 +2,9 @@
 //
 // shadow_trace (after shade, with NEE)
 // reads   shadow_rays[i], shadow_items[i], shadow_contrib[i] for i < shadow_count[0] (the
-//         shadow queue shade filled: a segment from the shading point to the light point,
-//         hits need 0 < t < 1); the BVH (nodes, links, leaf-ordered tris, prim_ids);
+//         shadow queue shade filled: a segment from the shading point towards the light
+//         point, hits need 0 < t < dir.w <= 1: offset.h's wp_shadow_tmax); the BVH
+//         (nodes, links, leaf-ordered tris, prim_ids);
 //         with WP_HAVE_ALPHA_MASK the alpha test's arguments (bvh_traverse.h), so cut-out
 //         surfaces let light through
 // writes  radiance[item] += shadow_contrib[i] when the segment is unoccluded (any hit,

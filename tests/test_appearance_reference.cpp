@@ -7,17 +7,11 @@
 // <scene>.var.exr (variance of that mean, from 32 independent seeds). Both read the depth
 // from the file: Mitsuba's max_depth N is wavepath's N − 1 bounces (the reader converts).
 //
-// Criteria, per scene:
-//  * z-test (image/stats.h, α = 0.01 with Šidák over pixels and channels): at least
-//    `min_pass` of the pixels pass, with the variances of both means; the render's variance
-//    is max(its own estimate, the reference's per-sample variance scaled to the render's
-//    spp), as in test_image_regression.cpp (a few hundred samples of a heavy-tailed pixel
-//    underestimate their own variance).
-//  * relMSE (compare_images, ε = 1e-2) at most 1.25 × the relMSE that the two images' noise
-//    alone gives in expectation (noise = mean of (var_render + var_ref) / (ref² + ε)) plus
-//    `allowance`, the bias the scene's deliberate model differences may add. For scale: a
-//    uniform 1 % brightness error on this kind of image adds about 1e-4; a flipped texture,
-//    a mirrored normal map or a turned environment adds 1e-2 and more.
+// Criteria, per scene (tests/mitsuba_check.h): a per-pixel z-test (at least `min_pass` of
+// the pixels pass) and relMSE at most 1.25 × the two images' noise plus `allowance`, the bias
+// the scene's deliberate model differences may add. For scale: a uniform 1 % brightness error
+// on this kind of image adds about 1e-4; a flipped texture, a mirrored normal map or a turned
+// environment adds 1e-2 and more.
 // The noise-only behaviour was measured by standing Mitsuba in for wavepath (Mitsuba at the
 // test's spp, another seed, through the same formulas: make_appearance_references.py
 // --check-stats): see docs/testing.md for the figures.
@@ -36,11 +30,9 @@
 //             the geometric surface, each renderer has its own rule (Mitsuba lets the ray go;
 //             wavepath follows issue 13's rules, and may soften the terminator). Affects
 //             the rims of the coarse spheres and the steepest bump flanks only.
-//  [ggx]      wavepath's GGX uses the height-correlated Smith G2 and Schlick's Fresnel with
-//             F0 = albedo; Mitsuba's roughconductor the separable G1·G1 and the conductor
-//             Fresnel. The scene uses material "none" (F = 1) and specular_reflectance 1, so
-//             F agrees exactly; G2 differs by under 0.1 % below 60 degrees and by a few percent
-//             at grazing angles (the sphere's rim).
+//  [ggx]      (before issue 14: wavepath's glossy GGX had the height-correlated G2; the reader
+//             now maps roughconductor to the rough conductor with Mitsuba's separable G1·G1
+//             and the conductor Fresnel, material "none": F = 1, the same model.)
 //  [mask]     Mitsuba's mask is stochastic (opacity = probability of a hit); wavepath cuts at
 //             alpha_cutoff 0.5. The opacity map is 0/1 with nearest lookups, so both agree
 //             exactly; Mitsuba's shadow rays do not see through the holes (its light through
@@ -55,127 +47,24 @@
 #include <catch2/catch.hpp>
 
 #include <algorithm>
-#include <chrono>
-#include <cmath>
 #include <filesystem>
-#include <fstream>
 #include <functional>
-#include <string>
 
-#include <nlohmann/json.hpp>
-
-#include "image/image.h"
-#include "image/stats.h"
-#include "render/loop.h"
-#include "render/wavefront.h"
-#include "scene/load.h"
-#include "support.h"
+#include "mitsuba_check.h"
 
 using namespace wp;
 namespace fs = std::filesystem;
 
 namespace {
 
-struct AppearanceCase {
-    const char* name;   // tests/scenes/appearance/<name>.xml, references/appearance/<name>.exr
-    int spp;            // wavepath's samples per pixel
-    double min_pass;    // z-test pass fraction
-    double allowance;   // relMSE a deliberate model difference may add
-};
+// tests/scenes/appearance/<name>.xml, tests/references/appearance/<name>.exr
+const test::MitsubaSet kSet{fs::path(WP_SOURCE_DIR) / "tests" / "scenes" / "appearance",
+                            fs::path(WP_SOURCE_DIR) / "tests" / "references" / "appearance",
+                            "scripts/make_appearance_references.py", "appearance-reference"};
 
-fs::path scene_dir() { return fs::path(WP_SOURCE_DIR) / "tests" / "scenes" / "appearance"; }
-fs::path ref_dir() { return fs::path(WP_SOURCE_DIR) / "tests" / "references" / "appearance"; }
-
-// The reference's spp as the script recorded it (tests/references/appearance/mitsuba.json);
-// 0 when the file or the entry is missing.
-int reference_spp(const std::string& name) {
-    std::ifstream in(ref_dir() / "mitsuba.json");
-    if (!in) return 0;
-    nlohmann::json j = nlohmann::json::parse(in, nullptr, false);
-    if (j.is_discarded() || !j.contains("scenes") || !j["scenes"].contains(name)) return 0;
-    return j["scenes"][name].value("spp", 0);
-}
-
-// Renders the scene file and compares it with its Mitsuba reference. `features` checks that
-// the loader read what the scene is about (so a loader that ignores it fails with a message
-// naming what is missing rather than with an image difference).
-void check_against_mitsuba(const AppearanceCase& c,
+void check_against_mitsuba(const test::MitsubaCase& c,
                            const std::function<void(const Scene&)>& features) {
-    const fs::path xml = scene_dir() / (std::string(c.name) + ".xml");
-    const fs::path ref_path = ref_dir() / (std::string(c.name) + ".exr");
-    const fs::path var_path = variance_path_for(ref_path);
-    for (const fs::path& p : {xml, ref_path, var_path})
-        if (!fs::exists(p)) {
-            WARN("SKIP: " << p
-                          << " does not exist; run scripts/make_appearance_references.py "
-                             "(Mitsuba 3) to make the scenes and references");
-            return;
-        }
-    const int ref_spp = reference_spp(c.name);
-    if (ref_spp <= 0) {
-        WARN("SKIP: " << (ref_dir() / "mitsuba.json") << " has no spp for " << c.name
-                      << "; rerun scripts/make_appearance_references.py");
-        return;
-    }
-
-    Scene scene = load_scene_file(xml);
-    std::string warnings;
-    for (const auto& w : scene.warnings) warnings += "\n  " + w;
-    INFO("loader warnings:" << (warnings.empty() ? std::string(" none") : warnings));
-    features(scene);
-    REQUIRE(scene.render.depth.has_value());
-
-    Image ref = read_image(ref_path), ref_var = read_image(var_path);
-    render::RenderSettings rs;
-    rs.width = scene.camera.width;
-    rs.height = scene.camera.height;
-    REQUIRE(ref.width == rs.width);
-    REQUIRE(ref.height == rs.height);
-    rs.depth = *scene.render.depth;
-    rs.seed = 7;
-    rs.variance = true;
-    render::Wavefront wf(test::device(), scene, rs);
-    render::LoopOptions lo;
-    lo.spp = c.spp;
-    const auto t0 = std::chrono::steady_clock::now();
-    render::render_frames(wf, lo, nullptr);
-    render::FilmMoments m = wf.moments();
-    const double seconds =
-        std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-    auto counters = wf.counters();
-    for (int k = 0; k < WP_COUNTER_COUNT; ++k) {
-        INFO("counter " << k);
-        CHECK(counters[k] == 0);
-    }
-
-    // The render's variance of the mean: its own, or the reference's per-sample variance
-    // scaled to c.spp, whichever is larger (see the header).
-    Image var_a = ref_var;
-    const float scale = static_cast<float>(ref_spp) / static_cast<float>(c.spp);
-    for (std::size_t i = 0; i < var_a.rgb.size(); ++i)
-        var_a.rgb[i] = std::max(ref_var.rgb[i] * scale, m.mean_variance.rgb[i]);
-    const ZTest z = z_test(m.mean, ref, &var_a, &ref_var);
-    const double relmse = compare_images(m.mean, ref).relmse;
-    const double noise = reference_relmse(ref, var_a) + reference_relmse(ref, ref_var);
-    const double bound = 1.25 * noise + c.allowance;
-    WARN(c.name << " (" << rs.width << "x" << rs.height << ", " << c.spp << " spp, depth "
-                << rs.depth << ", " << seconds << " s): z-test " << z.passed << "/" << z.pixels
-                << " pass (" << z.pass_fraction << ", need " << c.min_pass << "; |z| <= "
-                << z.z_crit << ", largest " << z.max_abs_z << " at (" << z.max_x << ", "
-                << z.max_y << ")); relMSE " << relmse << " (bound " << bound << " = 1.25 x noise "
-                << noise << " + " << c.allowance << ")");
-    const bool ok = z.pass_fraction >= c.min_pass && relmse <= bound;
-    if (!ok) {
-        fs::path out = fs::current_path() / "appearance-reference";
-        fs::create_directories(out);
-        write_image(out / (std::string(c.name) + ".exr"), m.mean);
-        write_image(out / (std::string(c.name) + ".ref.exr"), ref);
-        write_image(out / (std::string(c.name) + ".z.png"),
-                    false_colour(z.pixel_z, rs.width, rs.height, 2.0 * z.z_crit));
-        WARN("wrote " << (out / c.name).string() << ".{exr,ref.exr,z.png}");
-    }
-    CHECK(z.pass_fraction >= c.min_pass);
-    CHECK(relmse <= bound);
+    test::check_against_mitsuba(kSet, c, features);
 }
 
 bool any_nonzero(const std::vector<glm::vec3>& v) {
@@ -239,7 +128,7 @@ TEST_CASE("appearance: normal-mapped quads match Mitsuba 3", "[image][mitsuba]")
 // degrees after rotate y −60 degrees; a white diffuse and a GGX (α 0.15, F = 1) sphere, smooth
 // PLY meshes. The background shows the map directly (orientation, scale, u and v), the
 // spheres integrate it (importance sampling + MIS must be unbiased). Depth 3 (max_depth 4).
-// Model differences: [ggx] at the glossy sphere's rim, [envmap] texel lookup, [shading].
+// Model differences: [envmap] texel lookup, [shading].
 TEST_CASE("appearance: environment-lit spheres match Mitsuba 3", "[image][mitsuba]") {
     check_against_mitsuba({"env-spheres", 256, 0.98, 1e-3}, [](const Scene& s) {
         INFO("the loader must read the envmap emitter");

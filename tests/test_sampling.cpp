@@ -20,8 +20,9 @@
 
 #include <glm/glm.hpp>
 
-// The host copy of the shared code, compiled with the default estimator (MIS, GGX). No
-// other host translation unit includes bsdf.h.
+// The host copy of the shared code, compiled with the default estimator (MIS, GGX). The
+// only other host translation unit that includes bsdf.h, test_materials_conductor.cpp, uses
+// the same switches (inline definitions must agree across translation units).
 #define WP_SAMPLING 3
 #define WP_GLOSSY_MODEL 1
 #include "shared/bsdf.h"

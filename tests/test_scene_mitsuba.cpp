@@ -378,7 +378,8 @@ TEST_CASE("mitsuba: parameter expansion is bounded", "[scene][mitsuba][parser]")
 
 // --- Materials -------------------------------------------------------------------------------
 
-TEST_CASE("mitsuba: BSDFs map to the nearest wavepath material", "[scene][mitsuba][parser]") {
+TEST_CASE("mitsuba: BSDFs map to wavepath's materials of the same model",
+          "[scene][mitsuba][parser]") {
     Scene s = parse(R"(
   <bsdf type="twosided" id="white"><bsdf type="diffuse"><rgb name="reflectance" value="0.1, 0.2, 0.3"/></bsdf></bsdf>
   <bsdf type="twosided" id="metal"><bsdf type="conductor">
@@ -388,12 +389,16 @@ TEST_CASE("mitsuba: BSDFs map to the nearest wavepath material", "[scene][mitsub
   <bsdf type="twosided" id="mirror"><bsdf type="conductor"/></bsdf>
   <bsdf type="twosided" id="rough"><bsdf type="roughconductor">
       <float name="alpha" value="0.5"/><string name="distribution" value="ggx"/></bsdf></bsdf>
-  <bsdf type="twosided" id="beck1"><bsdf type="roughconductor"><float name="alpha" value="0.1"/></bsdf></bsdf>
-  <bsdf type="twosided" id="beck2"><bsdf type="roughconductor"><float name="alpha" value="0.2"/></bsdf></bsdf>
+  <bsdf type="twosided" id="beck1"><bsdf type="roughconductor"><float name="alpha" value="0.1"/>
+      <string name="material" value="Cu"/></bsdf></bsdf>
+  <bsdf type="twosided" id="beck2"><bsdf type="roughconductor"/></bsdf>
   <bsdf type="dielectric" id="water"><string name="int_ior" value="water"/><string name="ext_ior" value="air"/></bsdf>
   <bsdf type="dielectric" id="glass"><float name="int_ior" value="1.5"/><float name="ext_ior" value="1"/>
-      <rgb name="specular_transmittance" value="0.9, 0.8, 0.7"/></bsdf>
-  <bsdf type="plastic" id="p1"><rgb name="diffuse_reflectance" value="0.3, 0.4, 0.5"/></bsdf>
+      <rgb name="specular_transmittance" value="0.9, 0.8, 0.7"/>
+      <rgb name="specular_reflectance" value="0.6, 0.5, 0.4"/></bsdf>
+  <bsdf type="plastic" id="p1"><rgb name="diffuse_reflectance" value="0.3, 0.4, 0.5"/>
+      <rgb name="specular_reflectance" value="0.7"/><float name="int_ior" value="1.6"/>
+      <boolean name="nonlinear" value="true"/></bsdf>
   <bsdf type="roughplastic" id="p2"/>
   <bsdf type="plastic" id="p3"/>
   <shape type="rectangle" id="r0"><ref id="white"/></shape>
@@ -415,32 +420,62 @@ TEST_CASE("mitsuba: BSDFs map to the nearest wavepath material", "[scene][mitsub
     CHECK(mat(0).kind == MaterialKind::Diffuse);
     CHECK(mat(0).albedo == glm::vec3(0.1f, 0.2f, 0.3f));
     CHECK(s.material_ids[0] == s.material_ids[24]); // one material per referenced BSDF
-    // F0 = ((eta-1)^2 + k^2) / ((eta+1)^2 + k^2): 0.25/6.25, 2/10, 2/2; times 0.5
-    CHECK(mat(1).kind == MaterialKind::Mirror);
-    check_vec(mat(1).albedo, {0.02, 0.1, 0.5});
-    // Gold, red channel: eta 0.143119, k 3.98316 -> 16.5998 / 17.1723 = 0.96666
-    CHECK(mat(2).kind == MaterialKind::Mirror);
-    CHECK(mat(2).albedo.x == Approx(0.96666).epsilon(1e-4));
-    CHECK(mat(2).albedo.z < mat(2).albedo.x); // gold is yellow
-    check_vec(mat(3).albedo, {1, 1, 1});      // material "none": a perfect mirror
-    CHECK(mat(4).kind == MaterialKind::Glossy);
+    // Conductor: η and k as given, specular_reflectance the tint (it scales the Fresnel term)
+    CHECK(mat(1).kind == MaterialKind::Conductor);
+    CHECK(mat(1).eta == glm::vec3(1.5f, 2.0f, 0.0f));
+    CHECK(mat(1).k == glm::vec3(0.0f, 1.0f, 1.0f));
+    CHECK(mat(1).albedo == glm::vec3(0.5f));
+    // Gold from the table (Tungsten's RGB fit; Mitsuba 3.9.1 scalar_rgb: 0.143036, 3.983)
+    CHECK(mat(2).kind == MaterialKind::Conductor);
+    CHECK(mat(2).eta.x == Approx(0.143036).epsilon(2e-3));
+    CHECK(mat(2).k.x == Approx(3.983).epsilon(2e-3));
+    CHECK(mat(2).albedo == glm::vec3(1.0f));
+    // material "none" (the default): η 0, k 1, F = 1 at every angle
+    CHECK(mat(3).kind == MaterialKind::Conductor);
+    CHECK(mat(3).eta == glm::vec3(0.0f));
+    CHECK(mat(3).k == glm::vec3(1.0f));
+    // roughconductor: the distribution as given (default Beckmann), Mitsuba's separable G
+    CHECK(mat(4).kind == MaterialKind::RoughConductor);
     CHECK(mat(4).alpha == 0.5f);
+    CHECK_FALSE(mat(4).alpha_v.has_value());
+    CHECK(mat(4).distribution == MicrofacetModel::GGX);
+    CHECK(mat(4).separable_g);
+    CHECK(mat(5).kind == MaterialKind::RoughConductor);
+    CHECK(mat(5).distribution == MicrofacetModel::Beckmann);
     CHECK(mat(5).alpha == 0.1f);
+    CHECK(mat(5).eta.y == Approx(0.92375).epsilon(2e-3));  // Cu, Mitsuba: 0.92375, 2.45305
+    CHECK(mat(5).k.y == Approx(2.45305).epsilon(2e-3));
+    CHECK(mat(6).distribution == MicrofacetModel::Beckmann);  // Mitsuba's defaults
+    CHECK(mat(6).alpha == 0.1f);
+    CHECK(mat(6).separable_g);
+    // dielectric: η = int / ext, transmittance = albedo, reflection tint = specular
     CHECK(mat(7).kind == MaterialKind::Glass);
     CHECK(mat(7).ior == Approx(1.3330 / 1.000277));
+    CHECK(mat(7).specular == glm::vec3(1.0f));
+    CHECK(mat(7).albedo == glm::vec3(1.0f));
     CHECK(mat(8).ior == Approx(1.5));
     CHECK(mat(8).albedo == glm::vec3(0.9f, 0.8f, 0.7f));
-    CHECK(mat(9).kind == MaterialKind::Diffuse);
+    CHECK(mat(8).specular == glm::vec3(0.6f, 0.5f, 0.4f));
+    // plastic: diffuse_reflectance = albedo, specular_reflectance = specular, η, nonlinear
+    CHECK(mat(9).kind == MaterialKind::Plastic);
     CHECK(mat(9).albedo == glm::vec3(0.3f, 0.4f, 0.5f));
+    CHECK(mat(9).specular == glm::vec3(0.7f));
+    CHECK(mat(9).ior == Approx(1.6 / 1.000277));  // ext_ior defaults to air
+    CHECK(mat(9).nonlinear);
+    // roughplastic with Mitsuba's defaults: diffuse 0.5, polypropylene in air, Beckmann 0.1
+    CHECK(mat(10).kind == MaterialKind::RoughPlastic);
     CHECK(mat(10).albedo == glm::vec3(0.5f));
-    // One warning per kind, with its count
-    CHECK(count_warnings(s, "beckmann") == 1);
-    CHECK(has_warning(s, "beckmann' is rendered as GGX with the same alpha (2 times"));
-    CHECK(count_warnings(s, "'plastic'") == 1);
-    CHECK(has_warning(s, "'plastic' is rendered as diffuse with its diffuse_reflectance (the "
-                         "specular coating is dropped) (2 times"));
-    CHECK(count_warnings(s, "'roughplastic'") == 1);
-    CHECK(count_warnings(s, "one-sided") == 1); // the plastics are not inside twosided
+    CHECK(mat(10).specular == glm::vec3(1.0f));
+    CHECK(mat(10).ior == Approx(1.49 / 1.000277));
+    CHECK(mat(10).distribution == MicrofacetModel::Beckmann);
+    CHECK(mat(10).alpha == 0.1f);
+    CHECK(mat(10).separable_g);
+    CHECK_FALSE(mat(10).nonlinear);
+    CHECK(mat(11).kind == MaterialKind::Plastic);
+    // Nothing is approximated but the plastics' one-sidedness (not inside twosided)
+    CHECK(count_warnings(s, "one-sided") == 1);
+    CHECK(has_warning(s, "(3 times"));
+    CHECK(s.warnings.size() == 2);  // and the missing sensor's
 }
 
 TEST_CASE("mitsuba: a bare diffuse warns once that it is treated as two-sided; area emitters "
@@ -495,32 +530,115 @@ TEST_CASE("mitsuba: unsupported kinds and properties warn, never silently",
     CHECK(s.triangle_count() == 6);
 }
 
-TEST_CASE("mitsuba: sampled spectra become their mean; rough and thin dielectrics become glass",
+TEST_CASE("mitsuba: sampled spectra become their mean; rough and thin dielectrics, anisotropic "
+          "roughness",
           "[scene][mitsuba][parser]") {
     Scene s = parse(R"(
   <shape type="rectangle"><bsdf type="twosided"><bsdf type="diffuse">
     <spectrum name="reflectance" value="400:0.2, 500:0.4, 600:0.6"/></bsdf></bsdf></shape>
   <shape type="rectangle"><bsdf type="roughdielectric"><float name="alpha" value="0.3"/>
-    <float name="int_ior" value="1.33"/></bsdf></shape>
-  <shape type="rectangle"><bsdf type="thindielectric"/></shape>
+    <float name="int_ior" value="1.33"/><string name="distribution" value="ggx"/>
+    <rgb name="specular_transmittance" value="0.5, 0.6, 0.7"/>
+    <boolean name="sample_visible" value="false"/></bsdf></shape>
+  <shape type="rectangle"><bsdf type="thindielectric">
+    <rgb name="specular_reflectance" value="0.25"/></bsdf></shape>
   <shape type="rectangle"><bsdf type="twosided"><bsdf type="roughconductor">
     <float name="alpha_u" value="0.1"/><float name="alpha_v" value="0.4"/>
-    <string name="distribution" value="ggx"/></bsdf></bsdf></shape>)");
+    <string name="distribution" value="ggx"/></bsdf></bsdf></shape>
+  <shape type="rectangle"><bsdf type="roughdielectric">
+    <float name="alpha_u" value="0.05"/><float name="alpha_v" value="0.2"/></bsdf></shape>
+  <shape type="rectangle"><bsdf type="roughdielectric"/></shape>)");
     INFO(all_warnings(s));
     auto mat = [&](int shape) { return s.materials.at(s.material_ids.at(2 * shape)); };
     CHECK(mat(0).albedo.x == Approx(0.4f));
     CHECK(mat(0).albedo.z == Approx(0.4f));
     CHECK(has_warning(s, "mean of their values"));
-    CHECK(mat(1).kind == MaterialKind::Glass);
+    CHECK(mat(1).kind == MaterialKind::RoughDielectric);
     CHECK(mat(1).ior == Approx(1.33 / 1.000277)); // ext_ior defaults to air
-    CHECK(has_warning(s, "bsdf 'roughdielectric' is rendered as a smooth dielectric"));
-    CHECK(mat(2).kind == MaterialKind::Glass);
+    CHECK(mat(1).alpha == 0.3f);
+    CHECK(mat(1).distribution == MicrofacetModel::GGX);
+    CHECK(mat(1).separable_g);
+    CHECK(mat(1).albedo == glm::vec3(0.5f, 0.6f, 0.7f));
+    CHECK(mat(2).kind == MaterialKind::ThinDielectric);
     CHECK(mat(2).ior == Approx(1.5046 / 1.000277)); // bk7 in air, Mitsuba's defaults
-    CHECK(has_warning(s, "bsdf 'thindielectric'"));
-    CHECK(mat(3).kind == MaterialKind::Glossy);
-    CHECK(mat(3).alpha == Approx(0.2f)); // alpha = sqrt(0.1 * 0.4) = 0.2
-    CHECK(has_warning(s, "anisotropic"));
-    CHECK_FALSE(has_warning(s, "beckmann"));
+    CHECK(mat(2).specular == glm::vec3(0.25f));
+    CHECK(mat(2).albedo == glm::vec3(1.0f));
+    // Anisotropic: alpha = α_u (along the frame's x), alpha_v = α_v
+    CHECK(mat(3).kind == MaterialKind::RoughConductor);
+    CHECK(mat(3).alpha == 0.1f);
+    REQUIRE(mat(3).alpha_v.has_value());
+    CHECK(*mat(3).alpha_v == 0.4f);
+    CHECK(mat(4).kind == MaterialKind::RoughDielectric);
+    CHECK(mat(4).alpha == 0.05f);
+    CHECK(mat(4).alpha_v == std::optional<float>(0.2f));
+    CHECK(mat(4).distribution == MicrofacetModel::Beckmann);
+    CHECK(mat(5).kind == MaterialKind::RoughDielectric);  // defaults: Beckmann 0.1, bk7 / air
+    CHECK(mat(5).alpha == 0.1f);
+    CHECK(mat(5).ior == Approx(1.5046 / 1.000277));
+    CHECK(s.warnings.size() == 2);  // the spectrum's and the missing sensor's only
+}
+
+TEST_CASE("mitsuba: roughness limits: alpha < 1e-4 is the smooth kind, alpha > 2 is 2; "
+          "roughplastic is isotropic",
+          "[scene][mitsuba][parser]") {
+    Scene s = parse(R"(
+  <shape type="rectangle"><bsdf type="twosided"><bsdf type="roughconductor">
+    <float name="alpha" value="0"/><rgb name="eta" value="0.2"/><rgb name="k" value="3"/></bsdf></bsdf></shape>
+  <shape type="rectangle"><bsdf type="roughdielectric"><float name="alpha" value="5e-5"/></bsdf></shape>
+  <shape type="rectangle"><bsdf type="twosided"><bsdf type="roughplastic"><float name="alpha" value="0"/>
+    <rgb name="diffuse_reflectance" value="0.2"/></bsdf></bsdf></shape>
+  <shape type="rectangle"><bsdf type="twosided"><bsdf type="roughconductor"><float name="alpha" value="3"/></bsdf></bsdf></shape>
+  <shape type="rectangle"><bsdf type="twosided"><bsdf type="roughconductor">
+    <float name="alpha_u" value="0"/><float name="alpha_v" value="0.3"/></bsdf></bsdf></shape>)");
+    INFO(all_warnings(s));
+    auto mat = [&](int shape) { return s.materials.at(s.material_ids.at(2 * shape)); };
+    CHECK(mat(0).kind == MaterialKind::Conductor);
+    CHECK(mat(0).eta == glm::vec3(0.2f));
+    CHECK(mat(0).k == glm::vec3(3.0f));
+    CHECK(has_warning(s, "roughconductor with alpha < 1e-4 is rendered as a smooth conductor"));
+    CHECK(mat(1).kind == MaterialKind::Glass);
+    CHECK(has_warning(s, "roughdielectric with alpha < 1e-4 is rendered as a smooth dielectric"));
+    CHECK(mat(2).kind == MaterialKind::Plastic);
+    CHECK(mat(2).albedo == glm::vec3(0.2f));
+    CHECK(has_warning(s, "roughplastic with alpha < 1e-4 is rendered as a smooth plastic"));
+    CHECK(mat(3).kind == MaterialKind::RoughConductor);
+    CHECK(mat(3).alpha == 2.0f);
+    CHECK(has_warning(s, "alpha above 2 is clamped to 2"));
+    CHECK(mat(4).alpha == Approx(1e-4f));
+    CHECK(mat(4).alpha_v == std::optional<float>(0.3f));
+    CHECK(has_warning(s, "alpha_u or alpha_v below 0.0001 is raised to 0.0001"));
+    // What Mitsuba 3 refuses, wavepath refuses: anisotropic or textured roughplastic
+    CHECK_THAT(error_of_body("<shape type=\"cube\"><bsdf type=\"roughplastic\">\n"
+                             "  <float name=\"alpha_u\" value=\"0.1\"/><float name=\"alpha_v\" "
+                             "value=\"0.2\"/></bsdf></shape>"),
+               Contains("test.xml:3:3: <float name=\"alpha_u\">: roughplastic is isotropic"));
+    CHECK_THAT(error_of_body("<shape type=\"cube\"><bsdf type=\"roughplastic\">\n"
+                             "  <texture name=\"alpha\" type=\"checkerboard\"/></bsdf></shape>"),
+               Contains("test.xml:3:3:") && Contains("roughplastic takes alpha as a number only"));
+    CHECK_THAT(error_of_body("<shape type=\"cube\"><bsdf type=\"roughdielectric\">\n"
+                             "  <string name=\"distribution\" value=\"phong\"/></bsdf></shape>"),
+               Contains("test.xml:2:20:") && Contains("distribution 'phong' is not beckmann or ggx"));
+    CHECK_THAT(error_of_body("<shape type=\"cube\"><bsdf type=\"roughconductor\">\n"
+                             "  <float name=\"alpha\" value=\"-1\"/></bsdf></shape>"),
+               Contains("alpha -1 must be >= 0"));
+    CHECK_THAT(error_of_body("<shape type=\"cube\"><bsdf type=\"roughconductor\">\n"
+                             "  <float name=\"alpha_u\" value=\"0.1\"/></bsdf></shape>"),
+               Contains("alpha_u and alpha_v must be given together"));
+    CHECK_THAT(error_of_body("<shape type=\"cube\"><bsdf type=\"plastic\">\n"
+                             "  <float name=\"int_ior\" value=\"1000\"/></bsdf></shape>"),
+               Contains("int_ior / ext_ior = ") && Contains("is out of range [0.01, 100]"));
+    CHECK_THAT(error_of_body("<shape type=\"cube\"><bsdf type=\"conductor\">\n"
+                             "  <rgb name=\"eta\" value=\"-1\"/></bsdf></shape>"),
+               Contains("eta and k must be >= 0"));
+    CHECK_THAT(error_of_body("<shape type=\"cube\"><bsdf type=\"conductor\">\n"
+                             "  <rgb name=\"eta\" value=\"1\"/><string name=\"material\" value=\"Cu\"/></bsdf></shape>"),
+               Contains("give either eta/k or material, not both"));
+    // An unknown metal: a warning, and Mitsuba's "none"
+    Scene unknown = parse(R"(<shape type="rectangle"><bsdf type="twosided"><bsdf type="conductor">
+      <string name="material" value="Unobtainium"/></bsdf></bsdf></shape>)");
+    CHECK(has_warning(unknown, "conductor material 'Unobtainium' is not in wavepath's table"));
+    CHECK(unknown.materials.at(unknown.material_ids.at(0)).eta == glm::vec3(0.0f));
+    CHECK(unknown.materials.at(unknown.material_ids.at(0)).k == glm::vec3(1.0f));
 }
 
 TEST_CASE("mitsuba: integrator max_depth N is N - 1 bounces", "[scene][mitsuba][parser]") {
@@ -878,16 +996,20 @@ TEST_CASE("mitsuba: the shared Cornell box and veach-mis read as their SOURCE.md
     REQUIRE(power.size() == 3);
     for (double p : power)
         CHECK(p == Approx(7.59909 * 4 * kPi).epsilon(1e-4));
-    CHECK(count_warnings(vm, "beckmann") == 1);
-    // The plates: glossy, albedo 0.3 * F0(copper), alpha as given
-    int glossy = 0;
+    CHECK_FALSE(has_warning(vm, "beckmann"));
+    // The plates: Beckmann rough conductors of copper's η, k as given, tint 0.3, alpha as given
+    std::vector<float> alphas;
     for (const auto& m : vm.materials)
-        if (m.kind == MaterialKind::Glossy) {
-            ++glossy;
-            CHECK(m.albedo.x ==
-                  Approx(0.3 * 0.95214).epsilon(1e-3)); // copper red F0 15.9505 / 16.7522
+        if (m.kind == MaterialKind::RoughConductor) {
+            alphas.push_back(m.alpha);
+            CHECK(m.albedo == glm::vec3(0.3f));
+            CHECK(m.distribution == MicrofacetModel::Beckmann);
+            CHECK(m.separable_g);
+            check_vec(m.eta, {0.200438, 0.924033, 1.10221});
+            check_vec(m.k, {3.91295, 2.45285, 2.14219});
         }
-    CHECK(glossy == 4);
+    std::sort(alphas.begin(), alphas.end());
+    CHECK(alphas == std::vector<float>{0.01f, 0.05f, 0.1f, 0.25f});
 }
 
 // --- Rendering -------------------------------------------------------------------------------
@@ -1043,9 +1165,9 @@ TEST_CASE("mitsuba: bitmap and checkerboard textures become albedo maps with the
     }
     // to_uv rotate 90 degrees about z: (u, v) -> (-v, u)
     check_vec(glm::dvec3(apply_uv(plastic.albedo_map.uv_transform, {0.1f, 0.2f}), 0.0), {-0.2, 0.1, 0});
-    // Conductor: the map times F0 (material "none": 1)
+    // Conductor: the map is the specular_reflectance tint (material "none": F = 1)
     const Material& metal = material_of(s, 4);
-    CHECK(metal.kind == MaterialKind::Mirror);
+    CHECK(metal.kind == MaterialKind::Conductor);
     CHECK(metal.albedo == glm::vec3(1.0f));
     // The same file, but this bitmap filters bilinearly: its own copy, the wood's stays nearest
     REQUIRE(metal.albedo_map.used());
@@ -1081,7 +1203,8 @@ TEST_CASE("mitsuba: bitmap options and missing files", "[scene][mitsuba][parser]
     Scene aniso = parse(R"(<shape type="rectangle"><bsdf type="twosided"><bsdf type="roughconductor">
       <texture name="alpha_u" type="checkerboard"><float name="color0" value="0.1"/><float name="color1" value="0.3"/></texture>
       <float name="alpha_v" value="0.2"/><string name="distribution" value="ggx"/></bsdf></bsdf></shape>)");
-    CHECK(material_of(aniso, 0).alpha == Approx(0.2f));  // sqrt(mean 0.2 x 0.2)
+    CHECK(material_of(aniso, 0).alpha == Approx(0.2f));  // the mean of 0.1 and 0.3
+    CHECK(material_of(aniso, 0).alpha_v.value_or(0.2f) == Approx(0.2f));
     CHECK(has_warning(aniso, "alpha_u/alpha_v textures are not supported; their mean values are used"));
     // Bad values: the element's place and the problem
     CHECK_THAT(error_of_body("<shape type=\"cube\"><bsdf type=\"diffuse\">\n"
@@ -1290,7 +1413,8 @@ TEST_CASE("mitsuba: roughconductor alpha as a texture is alpha_max times G squar
   </bsdf></bsdf></shape>)");
     INFO(all_warnings(s));
     const Material& m = material_of(s, 0);
-    CHECK(m.kind == MaterialKind::Glossy);
+    CHECK(m.kind == MaterialKind::RoughConductor);
+    CHECK(m.distribution == MicrofacetModel::GGX);
     CHECK(m.alpha == Approx(0.36f));
     REQUIRE(m.roughness_map.used());
     const Texture& r = s.textures.at(std::size_t(m.roughness_map.image));

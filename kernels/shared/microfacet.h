@@ -12,8 +12,10 @@
 // or separable G1(wo) G1(wi) (Mitsuba 3), per material (WP_MF_SEPARABLE_G).
 // Visible normals (density D_w(h) = G1(w) max(0, w·h) D(h) / w_z): GGX by Heitz 2018
 // ("Sampling the GGX Distribution of Visible Normals", JCGT 7(4)), Beckmann by the
-// stretch-and-sample-slopes method (Heitz & d'Eon 2014) with Jakob's 2014 slope sampler
-// (which Mitsuba 3 uses).
+// stretch-and-sample-slopes method (Heitz & d'Eon 2014) with Jakob's 2014 slope sampler (the
+// bisection-safeguarded Newton inversion of Mitsuba 0.5; Mitsuba 3 runs three plain Newton
+// steps from another first guess: the same density). Tests: tests/test_materials_conductor.cpp;
+// models, energy and the comparison with Mitsuba 3: docs/materials.md.
 #ifndef WP_MICROFACET_H
 #define WP_MICROFACET_H
 
@@ -44,8 +46,9 @@ WP_FN float wp_mf_d(Microfacet mf, float3 h) {
     float x = h.x / mf.ax, y = h.y / mf.ay;
     float z2 = h.z * h.z;
     if (mf.beckmann) {
-        float e = (x * x + y * y) / z2;
-        return exp(-e) / (WP_PI * mf.ax * mf.ay * z2 * z2);
+        // exp(−e) = 0 near the horizon, where z2² may underflow too (0/0): 0.
+        float ex = exp(-(x * x + y * y) / z2);
+        return ex > 0.0f ? ex / (WP_PI * mf.ax * mf.ay * z2 * z2) : 0.0f;
     }
     float t = x * x + y * y + z2;
     return 1.0f / (WP_PI * mf.ax * mf.ay * t * t);
@@ -105,22 +108,18 @@ WP_FN float wp_erfinv(float x) {
 }
 
 // A slope (x̃, ỹ) of the isotropic unit-width Beckmann distribution of slopes visible from a
-// direction with cos θ = cos_theta and azimuth 0 (Jakob 2014, "An Improved Visible Normal
-// Sampling Routine for the Beckmann Distribution": the x̃ marginal's CDF inverted by a
-// bisection-safeguarded Newton iteration in the erf domain; ỹ is independent, Gaussian).
-WP_FN float2 wp_beckmann_sample_slope11(float cos_theta, float u1, float u2) {
+// direction (sin θ, 0, cos θ) (Jakob 2014, "An Improved Visible Normal Sampling Routine for the
+// Beckmann Distribution": the x̃ marginal's CDF inverted by a bisection-safeguarded Newton
+// iteration in the erf domain; ỹ is independent, Gaussian). Exact down to θ = 0 (tan θ = 0:
+// the CDF is linear in the erf domain and the first guess solves it), so normal incidence needs
+// no special case; sin θ is passed in, since sqrt(1 − cos²θ) loses it near the normal.
+WP_FN float2 wp_beckmann_sample_slope11(float cos_theta, float sin_theta, float u1, float u2) {
     const float inv_sqrt_pi = 0.56418958354775628f;
-    if (cos_theta > 0.9999f) {  // normal incidence: the whole distribution is visible
-        float r = sqrt(-log(1.0f - u1));
-        float phi = 2.0f * WP_PI * u2;
-        return make_float2(r * cos(phi), r * sin(phi));
-    }
-    float sin_theta = sqrt(max(0.0f, 1.0f - cos_theta * cos_theta));
-    float tan_theta = sin_theta / cos_theta, cot_theta = cos_theta / sin_theta;
+    float tan_theta = sin_theta / cos_theta, cot_theta = cos_theta / sin_theta;  // cot: inf at θ = 0
     float a = -1.0f, c = erf(cot_theta);
     float ux = max(u1, 1e-6f);
     // Initial guess: Jakob's fit of the inverse CDF.
-    float theta = acos(cos_theta);
+    float theta = atan2(sin_theta, cos_theta);
     float fit = 1.0f + theta * (-0.876f + theta * (0.4265f - 0.0594f * theta));
     float b = c - (1.0f + c) * pow(1.0f - ux, fit);
     float norm = 1.0f / (1.0f + c + inv_sqrt_pi * tan_theta * exp(-cot_theta * cot_theta));
@@ -145,9 +144,10 @@ WP_FN float3 wp_mf_sample_vndf(Microfacet mf, float3 w, float u1, float u2) {
     float3 wh = normalize(make_float3(mf.ax * w.x, mf.ay * w.y, w.z));
     if (mf.beckmann) {
         // Slopes of the unit distribution seen from wh, rotated to wh's azimuth, unstretched.
-        float sin_t = sqrt(max(0.0f, 1.0f - wh.z * wh.z));
+        // sin θ and the azimuth from wh's x and y (exact near the normal, unlike 1 − cos²θ).
+        float sin_t = sqrt(wh.x * wh.x + wh.y * wh.y);
         float cphi = sin_t > 0.0f ? wh.x / sin_t : 1.0f, sphi = sin_t > 0.0f ? wh.y / sin_t : 0.0f;
-        float2 s = wp_beckmann_sample_slope11(wh.z, u1, u2);
+        float2 s = wp_beckmann_sample_slope11(wh.z, sin_t, u1, u2);
         float sx = (cphi * s.x - sphi * s.y) * mf.ax;
         float sy = (sphi * s.x + cphi * s.y) * mf.ay;
         return normalize(make_float3(-sx, -sy, 1.0f));
@@ -176,6 +176,9 @@ WP_FN float wp_mf_pdf_vndf(Microfacet mf, float3 w, float3 h) {
 // Fresnel reflectance of a conductor with complex index of refraction η + i k (per channel,
 // relative to the outside) for unpolarised light at cos θ_i = cos_i (exact: pbrt-v3's
 // FrConductor, equal to pbrt-v4's FrComplex and Mitsuba 3's fresnel_conductor).
+// With a + i b = sqrt(η² − k² − sin²θ + 2iηk): a² = (|.| + t0) / 2 cancels when t0 < 0 (small η,
+// large k: silver, copper, gold in red), so a = ηk / b there (a b = ηk); 0/0 in r_s (η = 1, k = 0
+// at grazing) gives 1, the limit of every other index.
 WP_FN float wp_fresnel_conductor1(float cos_i, float eta, float k) {
     float c = clamp(cos_i, 0.0f, 1.0f);
     float c2 = c * c, s2 = 1.0f - c2;
@@ -183,9 +186,10 @@ WP_FN float wp_fresnel_conductor1(float cos_i, float eta, float k) {
     float t0 = eta2 - k2 - s2;
     float a2b2 = sqrt(t0 * t0 + 4.0f * eta2 * k2);
     float t1 = a2b2 + c2;
-    float a = sqrt(max(0.0f, 0.5f * (a2b2 + t0)));
+    float ek = fabs(eta * k);
+    float a = t0 >= 0.0f ? sqrt(0.5f * (a2b2 + t0)) : (ek > 0.0f ? ek / sqrt(0.5f * (a2b2 - t0)) : 0.0f);
     float t2 = 2.0f * c * a;
-    float rs = (t1 - t2) / (t1 + t2);
+    float rs = t1 + t2 > 0.0f ? (t1 - t2) / (t1 + t2) : 1.0f;
     float t3 = c2 * a2b2 + s2 * s2;
     float t4 = t2 * s2;
     float rp = rs * (t3 - t4) / (t3 + t4);

@@ -28,6 +28,7 @@ WP_NAMESPACE_BEGIN
 #define WP_RNG_BSDF 1      // direction sampling at a surface: (u1, u2, lobe choice, unused)
 #define WP_RNG_LIGHT 2     // next-event estimation: (point u1, point u2, light choice, unused)
 #define WP_RNG_RR 3        // Russian roulette: (survival, unused, unused, unused)
+#define WP_RNG_LENS 4      // bounce 0 only, thin-lens cameras: (lens u1, u2, unused, unused)
 #define WP_RNG_GROUPS 16   // groups per bounce (the key packs bounce * 16 + group)
 
 typedef struct Rng4 {

@@ -82,6 +82,23 @@ WP_FN float wp_cosine_hemisphere_pdf(float cos_theta) {
     return cos_theta > 0.0f ? cos_theta * WP_INV_PI : 0.0f;
 }
 
+// Uniform on the unit disk (density 1 / π per unit area): Shirley & Chiu's concentric map,
+// "A Low Distortion Map Between Disk and Square", JGT 2(3), 1997, which carries the
+// square's strata to the disk with little distortion (the thin lens, camera.h).
+WP_FN float2 wp_sample_concentric_disk(float u1, float u2) {
+    float a = 2.0f * u1 - 1.0f, b = 2.0f * u2 - 1.0f;
+    if (a == 0.0f && b == 0.0f) return make_float2(0.0f, 0.0f);
+    float r, phi;
+    if (fabs(a) > fabs(b)) {
+        r = a;
+        phi = (0.25f * WP_PI) * (b / a);
+    } else {
+        r = b;
+        phi = 0.5f * WP_PI - (0.25f * WP_PI) * (a / b);
+    }
+    return make_float2(r * cos(phi), r * sin(phi));
+}
+
 // --- GGX (Trowbridge-Reitz) microfacet distribution, local frame (+z = normal) --------
 // Walter, Marschner, Li & Torrance, "Microfacet Models for Refraction through Rough
 // Surfaces", EGSR 2007 (D, Smith Λ); Heitz, "Understanding the Masking-Shadowing Function

@@ -138,7 +138,8 @@ typedef struct TraceStats {
     /* Render stage types */                                                              \
     X(sizeof(CameraData)) X(__builtin_offsetof(CameraData, forward))                      \
     X(__builtin_offsetof(CameraData, up)) X(__builtin_offsetof(CameraData, width))        \
-    X(__builtin_offsetof(CameraData, jitter)) X(sizeof(MaterialData))                     \
+    X(__builtin_offsetof(CameraData, jitter)) X(__builtin_offsetof(CameraData, lens))     \
+    X(sizeof(MaterialData))                                                               \
     X(__builtin_offsetof(MaterialData, emission)) X(__builtin_offsetof(MaterialData, kind)) \
     X(__builtin_offsetof(MaterialData, ior)) X(__builtin_offsetof(MaterialData, alpha))   \
     X(__builtin_offsetof(MaterialData, specular)) X(__builtin_offsetof(MaterialData, k))  \
@@ -170,9 +171,11 @@ typedef struct TraceStats {
 #define WP_MF_SEPARABLE_G 2     // rough kinds: G = G1(wo) G1(wi) (else height-correlated)
 #define WP_PLASTIC_NONLINEAR 4  // plastics: Mitsuba's nonlinear internal scattering
 
-// Pinhole camera as the generate stage reads it (built by scene/upload). 80 bytes.
-// The ray through image position (px, py) in pixels (0,0 = top-left corner of the image)
-// has direction forward + ((2 px / width) - 1) * right + (1 - (2 py / height)) * up.
+// Camera as the generate stage reads it (built by scene/upload). 96 bytes.
+// The pinhole ray through image position (px, py) in pixels (0,0 = top-left corner of the
+// image) has direction forward + ((2 px / width) - 1) * right + (1 - (2 py / height)) * up.
+// With a thin lens (lens.x > 0; camera.h) the ray starts on the lens disk and passes
+// through the point where that pinhole ray meets the plane in focus.
 typedef struct CameraData {
     float4 origin;   // xyz: eye position (world units); w: 0
     float4 forward;  // xyz: unit viewing direction (image centre); w: 0
@@ -182,6 +185,8 @@ typedef struct CameraData {
     int height;      // image height, pixels
     int jitter;      // 1: uniform random position inside the pixel; 0: pixel centre
     int pad;         // 0
+    float4 lens;     // x: thin lens radius (world units; 0: pinhole); y: focus distance along
+                     // forward (world units, > 0); zw: 0
 } CameraData;
 
 // A material as the shade stage reads it. 112 bytes. Kinds and the meaning of the colours:
@@ -345,8 +350,8 @@ static_assert(sizeof(wp::BvhNode) == 128 && offsetof(wp::BvhNode, hi_x) == 16 &&
 static_assert(sizeof(wp::BvhLinks) == 8 && offsetof(wp::BvhLinks, slot) == 4);
 static_assert(sizeof(wp::TraceStats) == 8);
 // Render stage types.
-static_assert(sizeof(wp::CameraData) == 80 && offsetof(wp::CameraData, width) == 64 &&
-              offsetof(wp::CameraData, jitter) == 72);
+static_assert(sizeof(wp::CameraData) == 96 && offsetof(wp::CameraData, width) == 64 &&
+              offsetof(wp::CameraData, jitter) == 72 && offsetof(wp::CameraData, lens) == 80);
 static_assert(sizeof(wp::MaterialData) == 112 && offsetof(wp::MaterialData, kind) == 32 &&
               offsetof(wp::MaterialData, ior) == 36 && offsetof(wp::MaterialData, alpha) == 40 &&
               offsetof(wp::MaterialData, specular) == 48 && offsetof(wp::MaterialData, k) == 80 &&

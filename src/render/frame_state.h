@@ -32,7 +32,7 @@ struct PathQueue {
 
 // The shadow rays shade pushes with next-event estimation (kernels/shadow.cl).
 struct ShadowQueue {
-    ocl::Array<Ray> rays;        // segments to the light points, hits need 0 < t < 1
+    ocl::Array<Ray> rays;        // segments to the light points, hits need 0 < t < dir.w
     ocl::Array<int> items;       // the sample each ray belongs to
     ocl::Array<float4> contrib;  // its unoccluded contribution
     ocl::Array<int> count;       // one element

@@ -61,6 +61,7 @@ KernelConfig KernelConfig::from_scene(const Scene& scene, const Estimator& estim
     // vertex normals.
     c.normals |= c.normal_maps;
     c.env = scene.environment.has_value() && scene.environment->image >= 0;
+    c.lens = scene.camera.lens_radius > 0.0f;
     return c;
 }
 
@@ -70,7 +71,9 @@ std::string KernelConfig::inject_options() const {
 }
 
 std::string KernelConfig::generate_options() const {
-    return fmt::format("-D WP_SAMPLER={}{}", int(estimator.sobol), inject_options());
+    // The lens switch only when on: a pinhole camera keeps its program and cache key.
+    return fmt::format("-D WP_SAMPLER={}{}{}", int(estimator.sobol),
+                       lens ? " -D WP_HAVE_LENS=1" : "", inject_options());
 }
 
 std::string KernelConfig::shade_options() const {

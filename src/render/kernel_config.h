@@ -59,6 +59,7 @@ struct KernelConfig {
     bool normal_maps = false;  // some material has a normal map (WP_HAVE_NORMAL_MAPS)
     bool alpha_mask = false;   // some material is cut out (WP_HAVE_ALPHA_MASK: intersect, shadow)
     bool env = false;          // the scene has an environment map (WP_HAVE_ENV)
+    bool lens = false;         // the camera has a thin lens (WP_HAVE_LENS; generate only)
     Estimator estimator;
     // Debug (render --debug-nan): WP_INJECT_* stage bits (kernels/shared/types.h) whose
     // guards get a NaN for every pixel p with p % inject_period == 0; 0 compiles nothing.
@@ -78,7 +79,7 @@ struct KernelConfig {
     static KernelConfig from_scene(const Scene& scene, const Estimator& estimator = {});
 
     // Option slices, every switch a stage reads explicit:
-    std::string generate_options() const;    // sampler, injection
+    std::string generate_options() const;    // sampler, thin lens, injection
     std::string shade_options() const;       // materials, estimator, NEE, injection
     std::string accumulate_options() const;  // injection
     std::string trace_options() const;       // intersect and shadow: alpha cut-outs

@@ -405,8 +405,9 @@ using Keys = std::span<const std::string_view>;
 constexpr std::array<std::string_view, 7> kTopKeys{"version", "camera",    "background",
                                                    "render",  "materials", "shapes",
                                                    "environment"};
-constexpr std::array<std::string_view, 8> kCameraKeys{"position", "look_at", "up",    "matrix",
-                                                      "fov",      "fov_axis", "width", "height"};
+constexpr std::array<std::string_view, 11> kCameraKeys{
+    "position", "look_at", "up",          "matrix",          "fov",           "fov_axis",
+    "width",    "height",  "lens_radius", "aperture_radius", "focus_distance"};
 constexpr std::array<std::string_view, 3> kRenderKeys{"spp", "depth", "seed"};
 // The kinds' names, in the order of kernels/shared/material_kinds.h.
 constexpr std::array<std::string_view, kMaterialKindCount> kMaterialTypes{
@@ -1439,6 +1440,27 @@ void Reader::read_camera(const Json* v, const Path& p, Scene& s) const {
         if (!std::isfinite(distance) || !std::isfinite(c.position.z))
             error(p, "cannot frame the scene automatically (its bounds are too large); give "
                      "\"position\" and \"look_at\"");
+    }
+
+    // Thin lens: the radius (lens_radius, or Mitsuba's name aperture_radius) and the distance
+    // in focus, by default that of look_at (or the framed scene's centre; 1 with a matrix)
+    const Json *lr = get("lens_radius"), *ar = get("aperture_radius"), *fd = get("focus_distance");
+    if (lr && ar)
+        error_at_key(p.key("aperture_radius"),
+                     "give either \"lens_radius\" or \"aperture_radius\" (the same), not both");
+    if (lr || ar) {
+        const char* k = lr ? "lens_radius" : "aperture_radius";
+        c.lens_radius =
+            real_in(lr ? *lr : *ar, p.key(k), 0.0, kNoMax, false, false, "(world units)");
+    }
+    if (fd) {
+        c.focus_distance =
+            real_in(*fd, p.key("focus_distance"), 0.0, kNoMax, true, false, "(world units)");
+    } else if (c.lens_radius > 0.0f) {
+        c.focus_distance = glm::length(c.target - c.position);
+        if (!(std::isfinite(c.focus_distance) && c.focus_distance > 0.0f))
+            error(p, "the distance from position to look_at ({}) cannot be the focus distance: "
+                     "give \"focus_distance\"", c.focus_distance);
     }
     s.camera = c;
 }

@@ -5,6 +5,7 @@
 #include <charconv>
 #include <cmath>
 #include <cstdint>
+#include <limits>
 #include <numbers>
 #include <optional>
 #include <set>
@@ -176,13 +177,6 @@ std::pair<glm::dvec3, glm::dvec3> coordinate_system(glm::dvec3 n) {
             glm::dvec3(b, sign + n.y * n.y * a, -n.y)};
 }
 
-// Normal-incidence Fresnel reflectance of a conductor, per channel.
-glm::vec3 fresnel_f0(glm::vec3 eta, glm::vec3 k) {
-    glm::vec3 a = (eta - 1.0f) * (eta - 1.0f) + k * k;
-    glm::vec3 b = (eta + 1.0f) * (eta + 1.0f) + k * k;
-    return a / b;
-}
-
 // --- The reader -----------------------------------------------------------------------------
 
 struct Obj {
@@ -303,7 +297,9 @@ class Reader {
     std::optional<std::pair<TexInfo, pugi::xml_node>> nested_texture(Obj& o, std::string_view name);
     glm::vec3 reflectance_map(Obj& o, std::string_view name, float def, TextureRef& map);
     int image_file(const std::string& filename, TextureUse use, bool& missing);
-    void roughness_texture(pugi::xml_node n, const TexInfo& tex, Material& m);
+    bool roughness_texture(pugi::xml_node n, const TexInfo& tex, Material& m);
+    bool roughness(Obj& o, Material& m, bool anisotropic, bool textured);
+    float ior(Obj& o, double int_default, double ext_default);
     double texture_mean(const TexInfo& tex);
     void opacity(Obj& o, Material& m);
     void mark_used(Obj& o, std::initializer_list<std::string_view> names);
@@ -835,14 +831,17 @@ double Reader::texture_mean(const TexInfo& tex) {
     return count ? sum / double(count) : 0.0;
 }
 
-// roughconductor's alpha as a texture. wavepath's roughness is alpha × G² of its roughness
+// alpha of a rough kind as a texture. wavepath's roughness is alpha × G² of its roughness
 // map, so the map is made from the texture's values: G = sqrt(a / a_max) per texel (a: the
 // texel's luminance, Mitsuba's eval_1), alpha = a_max. Exact at the texels; filtering
-// interpolates G instead of a.
-void Reader::roughness_texture(pugi::xml_node n, const TexInfo& tex, Material& m) {
+// interpolates G instead of a. Returns false when every texel is below 1e-4 (the caller
+// takes the smooth kind).
+bool Reader::roughness_texture(pugi::xml_node n, const TexInfo& tex, Material& m) {
+    const float lo = limits::kMinMicrofacetAlpha, hi = limits::kMaxMicrofacetAlpha;
     if (!tex.ref.used() || tex.missing) {
-        m.alpha = std::clamp(tex.mean.x, 1e-4f, 1.0f);  // the stand-in; a warning was given
-        return;
+        const float a = tex.mean.x;  // the stand-in; a warning was given
+        m.alpha = std::clamp(a, lo, hi);
+        return a >= lo;
     }
     const Texture& src = scene_.textures[std::size_t(tex.ref.image)];
     const std::size_t count = std::size_t(src.width) * std::size_t(src.height);
@@ -852,16 +851,12 @@ void Reader::roughness_texture(pugi::xml_node n, const TexInfo& tex, Material& m
     for (std::size_t i = 0; i < count; ++i) {
         float v = texel_luminance(src, i);
         if (!(v >= 0.0f)) error(n, "the alpha texture has a negative or non-finite value {}", v);
-        if (v > 1.0f) v = 1.0f, clamped = true;
+        if (v > hi) v = hi, clamped = true;
         a[i] = v;
         amax = std::max(amax, v);
     }
-    if (clamped) note("alpha > 1", n, "alpha above 1 is clamped to 1");
-    if (amax < 1e-4f) {
-        note("alpha 0", n, "roughconductor with alpha < 1e-4 is rendered as a mirror");
-        m.kind = MaterialKind::Mirror;
-        return;
-    }
+    if (clamped) note("alpha > 2", n, fmt::format("alpha above {:g} is clamped to {:g}", hi, hi));
+    if (amax < lo) return false;
     Texture r;
     r.source = "alpha of " + src.source;
     r.width = src.width;
@@ -873,9 +868,107 @@ void Reader::roughness_texture(pugi::xml_node n, const TexInfo& tex, Material& m
         r.texelsf.insert(r.texelsf.end(), {g, g, g, 1.0f});
     }
     scene_.textures.push_back(std::move(r));
-    m.kind = MaterialKind::Glossy;
     m.alpha = amax;
     m.roughness_map = TextureRef{int(scene_.textures.size() - 1), tex.ref.uv_transform};
+    return true;
+}
+
+// The microfacet parameters of roughconductor, roughdielectric and roughplastic into m:
+// `distribution` (beckmann, Mitsuba's default, or ggx), Mitsuba's separable G1·G1, and the
+// roughness: `alpha` (default 0.1; a texture where `textured`) or, where `anisotropic`,
+// `alpha_u` and `alpha_v` (α_u along the shading frame's x). α above 2 is clamped to 2;
+// returns false when α is below 1e-4 (the caller takes the smooth kind and notes it).
+bool Reader::roughness(Obj& o, Material& m, bool anisotropic, bool textured) {
+    const pugi::xml_node n = o.node;
+    const std::string& t = o.type;
+    const double lo = limits::kMinMicrofacetAlpha, hi = limits::kMaxMicrofacetAlpha;
+    std::string dist = lower(get_string(o, "distribution").value_or("beckmann"));
+    if (dist == "beckmann")
+        m.distribution = MicrofacetModel::Beckmann;
+    else if (dist == "ggx")
+        m.distribution = MicrofacetModel::GGX;
+    else
+        error(n, "distribution '{}' is not beckmann or ggx", dist);
+    m.separable_g = true;
+    mark_used(o, {"sample_visible"});  // sampling only: the image's mean is the same
+
+    auto a = get_float(o, "alpha");
+    std::optional<double> au, av;
+    std::optional<std::pair<TexInfo, pugi::xml_node>> alpha_tex;
+    if (!a) alpha_tex = nested_texture(o, "alpha");
+    if (alpha_tex && !textured)
+        error(alpha_tex->second, "{} takes alpha as a number only (as Mitsuba 3 does)", t);
+    if (anisotropic) {
+        au = get_float(o, "alpha_u"), av = get_float(o, "alpha_v");
+        // Anisotropic roughness as textures: their mean values, with a warning
+        using AlphaSlot = std::pair<const char*, std::optional<double>*>;
+        for (auto [an, value] : {AlphaSlot{"alpha_u", &au}, AlphaSlot{"alpha_v", &av}})
+            if (auto tex = nested_texture(o, an)) {
+                *value = texture_mean(tex->first);
+                note("anisotropic texture", tex->second,
+                     "alpha_u/alpha_v textures are not supported; their mean values are used");
+            }
+    } else {
+        for (const char* an : {"alpha_u", "alpha_v"})
+            for (auto& [pn, item] : o.props)
+                if (pn == an)
+                    error(item.node,
+                          "{} is isotropic (Mitsuba 3 refuses alpha_u/alpha_v here); give alpha", t);
+    }
+    auto clamp_high = [&](double x) {
+        if (x > hi) {
+            note("alpha > 2", n, fmt::format("alpha above {:g} is clamped to {:g}", hi, hi));
+            return hi;
+        }
+        return x;
+    };
+    if (au || av) {
+        if (!(au && av)) error(n, "alpha_u and alpha_v must be given together");
+        if (a || alpha_tex) error(n, "give either alpha or alpha_u/alpha_v");
+        if (!(*au >= 0.0 && *av >= 0.0)) error(n, "alpha_u and alpha_v must be >= 0");
+        const double u = clamp_high(*au), v = clamp_high(*av);
+        if (std::max(u, v) < lo) return false;
+        if (std::min(u, v) < lo)
+            note("alpha_u/v small", n,
+                 fmt::format("alpha_u or alpha_v below {:g} is raised to {:g}", lo, lo));
+        m.alpha = float(std::max(u, lo));
+        if (u != v) m.alpha_v = float(std::max(v, lo));
+        return true;
+    }
+    if (alpha_tex) return roughness_texture(alpha_tex->second, alpha_tex->first, m);
+    const double alpha = a.value_or(0.1);
+    if (!(alpha >= 0.0)) error(n, "alpha {} must be >= 0", alpha);
+    if (alpha < lo) return false;
+    m.alpha = float(clamp_high(alpha));
+    return true;
+}
+
+// The relative index of refraction int_ior / ext_ior of the dielectrics and plastics (numbers
+// or Mitsuba's names; defaults as given), or `eta` (relative to vacuum).
+float Reader::ior(Obj& o, double int_default, double ext_default) {
+    auto ior_of = [&](const char* name, double def) {
+        auto* p = prop(o, name, {"float", "integer", "string"}, "a number or a material name");
+        if (!p) return def;
+        std::string v = required(p->node, "value");
+        if (std::string_view(p->node.name()) == "string") {
+            std::string lv = lower(v);
+            for (const NamedIor& x : kIors)
+                if (x.name == lv) return x.ior;
+            error(p->node,
+                  "unknown index of refraction '{}' (known: vacuum, air, water, "
+                  "bk7, diamond, ... see mitsuba_loader.h)",
+                  v);
+        }
+        double x = number(p->node, "value", v);
+        if (!(x > 0.0)) error(p->node, "{} {} must be > 0", name, x);
+        return x;
+    };
+    double int_ior = ior_of("int_ior", int_default), ext_ior = ior_of("ext_ior", ext_default);
+    if (auto eta = get_float(o, "eta")) int_ior = positive(o.node, "eta", *eta), ext_ior = 1.0;
+    const double r = int_ior / ext_ior;
+    if (!(r >= 0.01 && r <= 100.0))
+        error(o.node, "int_ior / ext_ior = {} is out of range [0.01, 100]", r);
+    return float(r);
 }
 
 // The mask BSDF's opacity (default 0.5) as wavepath's alpha cut-out with cutoff 0.5: the
@@ -1100,10 +1193,8 @@ void Reader::read_integrator(pugi::xml_node n) {
 
 void Reader::read_sensor(pugi::xml_node n) {
     Obj o = collect(n);
-    if (o.type == "thinlens")
-        note("thinlens", n,
-             "sensor 'thinlens' is rendered as a pinhole camera (no depth of field)");
-    else if (o.type != "perspective")
+    const bool thinlens = o.type == "thinlens";
+    if (!thinlens && o.type != "perspective")
         note("sensor " + o.type, n,
              fmt::format("sensor '{}' is not supported; rendered as a perspective camera", o.type));
     glm::dmat4 m = get_transform(o, "to_world").value_or(glm::dmat4(1.0));
@@ -1192,6 +1283,33 @@ void Reader::read_sensor(pugi::xml_node n) {
     for (const char* pp : {"principal_point_offset_x", "principal_point_offset_y"})
         if (auto v = get_float(o, pp); v && *v != 0.0)
             note("principal point", n, "principal_point_offset is not supported; ignored");
+    // Thin lens (thinlens): aperture_radius (required, as in Mitsuba 3; 0 is a pinhole) and
+    // focus_distance (Mitsuba's default: far_clip, 1e4), both in world units. A perspective
+    // sensor reads neither.
+    float lens_radius = 0.0f, focus_distance = 1.0f;
+    if (thinlens) {
+        auto* ap = prop(o, "aperture_radius", {"float", "integer"}, "a number");
+        if (!ap)
+            error(n, "sensor 'thinlens' needs aperture_radius (the lens radius in world units)");
+        const double a = number(ap->node, "value", required(ap->node, "value"));
+        if (!(a >= 0.0 && a <= double(std::numeric_limits<float>::max())))
+            error(ap->node, "aperture_radius {} must be >= 0 (0: a pinhole)", a);
+        const double far = get_float(o, "far_clip").value_or(1e4);
+        auto* fp = prop(o, "focus_distance", {"float", "integer"}, "a number");
+        const double fd = fp ? number(fp->node, "value", required(fp->node, "value")) : far;
+        if (!(fd > 0.0 && fd <= double(std::numeric_limits<float>::max())))
+            error(fp ? fp->node : n, "focus_distance {} must be > 0", fd);
+        lens_radius = float(a);
+        focus_distance = float(fd);
+        // Mitsuba 3 refuses a scaled to_world for thinlens; here the lens stays in world units.
+        for (int k = 0; k < 3; ++k)
+            if (std::abs(glm::length(glm::dvec3(m[k])) - 1.0) > 1e-3) {
+                note("thinlens scale", n,
+                     "the thinlens sensor's to_world scales (Mitsuba 3 rejects that); "
+                     "aperture_radius and focus_distance are taken in world units");
+                break;
+            }
+    }
     mark_used(o, {"near_clip", "far_clip", "focus_distance", "aperture_radius", "srf",
                   "shutter_open", "shutter_close"});
 
@@ -1205,6 +1323,8 @@ void Reader::read_sensor(pugi::xml_node n) {
             "mirrored sensor", n,
             "the sensor's to_world mirrors the image (column 0 points right); rendered unmirrored");
     scene_.camera = camera_from_matrix(glm::mat4(m), vfov, int(width), int(height));
+    scene_.camera.lens_radius = lens_radius;
+    scene_.camera.focus_distance = focus_distance;
     camera_to_world_ = m;
     finish(o);
 }
@@ -1256,120 +1376,64 @@ Material Reader::read_bsdf(pugi::xml_node n, int depth, bool two_sided) {
         m.albedo = reflectance_map(o, "reflectance", 0.5f, m.albedo_map);
         one_sided();
     } else if (t == "conductor" || t == "roughconductor") {
-        glm::vec3 f0(1.0f);
+        // η + i k per channel: eta/k (defaults 0 and 1: F = 1), or `material` from the table
         auto eta = get_color(o, "eta");
         auto k = get_color(o, "k");
         auto material = get_string(o, "material");
         if (eta || k) {
             if (material) error(n, "give either eta/k or material, not both");
-            glm::vec3 e = eta.value_or(glm::vec3(0.0f)), kk = k.value_or(glm::vec3(1.0f));
-            if (glm::any(glm::lessThan(e, glm::vec3(0.0f))) ||
-                glm::any(glm::lessThan(kk, glm::vec3(0.0f))))
+            m.eta = eta.value_or(glm::vec3(0.0f));
+            m.k = k.value_or(glm::vec3(1.0f));
+            if (glm::any(glm::lessThan(m.eta, glm::vec3(0.0f))) ||
+                glm::any(glm::lessThan(m.k, glm::vec3(0.0f))))
                 error(n, "eta and k must be >= 0");
-            f0 = fresnel_f0(e, kk);
         } else if (material && *material != "none") {
             if (const MetalIor* metal = find_metal(*material)) {
-                f0 = fresnel_f0(metal->eta, metal->k);
+                m.eta = metal->eta;
+                m.k = metal->k;
             } else {
                 note("metal " + *material, n,
                      fmt::format("conductor material '{}' is not in wavepath's table of metals; "
-                                 "reflectance 1 is used",
+                                 "material \"none\" (reflectance 1) is used",
                                  *material));
             }
         }
-        m.albedo = glm::clamp(reflectance_map(o, "specular_reflectance", 1.0f, m.albedo_map) * f0,
-                              0.0f, 1.0f);
-        m.kind = MaterialKind::Mirror;
+        m.albedo = reflectance_map(o, "specular_reflectance", 1.0f, m.albedo_map);
+        m.kind = MaterialKind::Conductor;
         if (t == "roughconductor") {
-            double alpha;
-            auto a = get_float(o, "alpha");
-            auto au = get_float(o, "alpha_u"), av = get_float(o, "alpha_v");
-            std::optional<std::pair<TexInfo, pugi::xml_node>> alpha_tex;
-            if (!a) alpha_tex = nested_texture(o, "alpha");
-            // Anisotropic roughness as textures: their mean values, with a warning
-            using AlphaSlot = std::pair<const char*, std::optional<double>*>;
-            for (auto [an, value] : {AlphaSlot{"alpha_u", &au}, AlphaSlot{"alpha_v", &av}})
-                if (auto tex = nested_texture(o, an)) {
-                    *value = texture_mean(tex->first);
-                    note("anisotropic texture", tex->second,
-                         "alpha_u/alpha_v textures are not supported; their mean values are used");
-                }
-            if (alpha_tex && (au || av)) error(n, "give either alpha or alpha_u/alpha_v");
-            if (au || av) {
-                if (!(au && av)) error(n, "alpha_u and alpha_v must be given together");
-                if (a) error(n, "give either alpha or alpha_u/alpha_v");
-                if (*au < 0.0 || *av < 0.0) error(n, "alpha_u and alpha_v must be >= 0");
-                alpha = std::sqrt(*au * *av);
-                note("anisotropic", n,
-                     "anisotropic roughness (alpha_u, alpha_v) is rendered isotropic with "
-                     "alpha = sqrt(alpha_u alpha_v)");
-            } else {
-                alpha = a.value_or(0.1);
-                if (alpha < 0.0) error(n, "alpha {} must be >= 0", alpha);
-            }
-            std::string dist = lower(get_string(o, "distribution").value_or("beckmann"));
-            if (dist == "beckmann")
-                note("beckmann", n,
-                     "roughconductor distribution 'beckmann' is rendered as GGX with the same "
-                     "alpha");
-            else if (dist != "ggx")
-                error(n, "distribution '{}' is not beckmann or ggx", dist);
-            if (alpha > 1.0) {
-                note("alpha > 1", n, "alpha above 1 is clamped to 1");
-                alpha = 1.0;
-            }
-            if (alpha_tex) {
-                roughness_texture(alpha_tex->second, alpha_tex->first, m);
-            } else if (alpha >= 1e-4) {
-                m.kind = MaterialKind::Glossy;
-                m.alpha = float(alpha);
-            } else {
-                note("alpha 0", n, "roughconductor with alpha < 1e-4 is rendered as a mirror");
-            }
-            mark_used(o, {"sample_visible"});
+            if (roughness(o, m, true, true))
+                m.kind = MaterialKind::RoughConductor;
+            else
+                note("alpha 0", n, "roughconductor with alpha < 1e-4 is rendered as a smooth conductor");
         }
         one_sided();
     } else if (t == "dielectric" || t == "thindielectric" || t == "roughdielectric") {
-        auto ior_of = [&](const char* name, double def) {
-            auto* p = prop(o, name, {"float", "integer", "string"}, "a number or a material name");
-            if (!p) return def;
-            std::string v = required(p->node, "value");
-            if (std::string_view(p->node.name()) == "string") {
-                std::string lv = lower(v);
-                for (const NamedIor& x : kIors)
-                    if (x.name == lv) return x.ior;
-                error(p->node,
-                      "unknown index of refraction '{}' (known: vacuum, air, water, "
-                      "bk7, diamond, ... see mitsuba_loader.h)",
-                      v);
-            }
-            double x = number(p->node, "value", v);
-            if (!(x > 0.0)) error(p->node, "{} {} must be > 0", name, x);
-            return x;
-        };
-        double int_ior = ior_of("int_ior", 1.5046), ext_ior = ior_of("ext_ior", 1.000277);
-        if (auto eta = get_float(o, "eta")) int_ior = positive(n, "eta", *eta), ext_ior = 1.0;
-        m.kind = MaterialKind::Glass;
-        const double ior = int_ior / ext_ior;
-        if (!(ior >= 0.01 && ior <= 100.0))
-            error(n, "int_ior / ext_ior = {} is out of range [0.01, 100]", ior);
-        m.ior = float(ior);
+        // Two-sided in Mitsuba too. bk7 in air by default.
+        m.ior = ior(o, 1.5046, 1.000277);
         m.albedo = reflectance_map(o, "specular_transmittance", 1.0f, m.albedo_map);
-        if (auto r = get_color(o, "specular_reflectance"); r && *r != glm::vec3(1.0f))
-            note("glass reflectance", n,
-                 "dielectric specular_reflectance other than 1 is not supported; ignored");
-        if (t != "dielectric")
-            note("bsdf " + t, n,
-                 fmt::format("bsdf '{}' is rendered as a smooth dielectric (glass)", t));
-        mark_used(o, {"alpha", "alpha_u", "alpha_v", "distribution", "sample_visible"});
+        m.specular = reflectance(o, "specular_reflectance", 1.0f);
+        m.kind = t == "thindielectric" ? MaterialKind::ThinDielectric : MaterialKind::Glass;
+        if (t == "roughdielectric") {
+            if (roughness(o, m, true, true))
+                m.kind = MaterialKind::RoughDielectric;
+            else
+                note("alpha 0 dielectric", n,
+                     "roughdielectric with alpha < 1e-4 is rendered as a smooth dielectric");
+        }
     } else if (t == "plastic" || t == "roughplastic") {
-        m.kind = MaterialKind::Diffuse;
+        // Polypropylene in air by default.
         m.albedo = reflectance_map(o, "diffuse_reflectance", 0.5f, m.albedo_map);
-        note("bsdf " + t, n,
-             fmt::format("bsdf '{}' is rendered as diffuse with its diffuse_reflectance (the "
-                         "specular coating is dropped)",
-                         t));
-        skip(o);
+        m.specular = reflectance(o, "specular_reflectance", 1.0f);
+        m.ior = ior(o, 1.49, 1.000277);
+        m.nonlinear = get_bool(o, "nonlinear").value_or(false);
+        m.kind = MaterialKind::Plastic;
+        if (t == "roughplastic") {
+            if (roughness(o, m, false, false))
+                m.kind = MaterialKind::RoughPlastic;
+            else
+                note("alpha 0 plastic", n,
+                     "roughplastic with alpha < 1e-4 is rendered as a smooth plastic");
+        }
         one_sided();
     } else if (t == "principled" || t == "principledthin") {
         m.kind = MaterialKind::Diffuse;

@@ -12,7 +12,9 @@
 // order, as Mitsuba does: a $N used before its <default> is undefined.
 //
 // Sensor (the first <sensor>; others are ignored with a warning):
-//   perspective (thinlens: the same without depth of field, with a warning). to_world: its
+//   perspective, or thinlens: the same with depth of field (aperture_radius, required, and
+//   focus_distance [far_clip, 1e4] in world units → Camera lens_radius, focus_distance;
+//   a scaling to_world, which Mitsuba 3 rejects, is warned about). to_world: its
 //   column 2 is the viewing direction, column 1 up, column 0 points to the image's left (a
 //   matrix whose column 0 points right would mirror the image: warning, rendered unmirrored).
 //   fov with fov_axis x (Mitsuba's default), y, smaller, larger or diagonal, or
@@ -51,25 +53,37 @@
 //   flip_normals reverses the winding and turns the normals with it (inverse transpose).
 //   Other shape types (serialized, shapegroup, instance, ...) are skipped with a warning.
 //   A shape without a BSDF gets Mitsuba's default, diffuse 0.5.
-// BSDFs (by nesting or <ref id>; wavepath materials shade both sides):
+// BSDFs (by nesting or <ref id>; wavepath materials shade both sides). The rough kinds take
+//   Mitsuba's microfacet model exactly: `distribution` beckmann (the default) or ggx, the
+//   separable masking G1(wo)·G1(wi) (Material::separable_g), visible-normal sampling
+//   (sample_visible is accepted; it changes the noise only); α < 1e-4 → the smooth kind
+//   (warning), α > 2 → 2 (warning):
 //   twosided(X)             X (a second, back-side BSDF is dropped with a warning)
 //   diffuse                 Diffuse, albedo = reflectance (default 0.5)
-//   conductor               Mirror, albedo = specular_reflectance × F0(η, k), F0 the
-//                           normal-incidence Fresnel reflectance ((η−1)² + k²)/((η+1)² + k²)
-//                           from eta/k, or from `material` (default "none" = 1) in the metal
-//                           table below; an unknown material: warning and F0 = 1
-//   roughconductor          Glossy, same albedo, roughness α = alpha (default
-//                           0.1; alpha_u/alpha_v: geometric mean, warning; α > 1 → 1;
-//                           α < 1e-4 → Mirror); distribution beckmann (Mitsuba's default) →
-//                           GGX with the same α, one warning
+//   conductor               Conductor: η, k per channel from eta/k (defaults 0 and 1), or
+//                           from `material` in the metal table below (default "none": η 0,
+//                           k 1, F = 1; an unknown name: warning and "none"); albedo =
+//                           specular_reflectance (default 1), which scales the exact Fresnel
+//   roughconductor          RoughConductor, same η/k/albedo; alpha (default 0.1; a texture:
+//                           see Textures) or alpha_u + alpha_v (anisotropic: Material::alpha =
+//                           α_u along the shading frame's x = wp_onb(n), Mitsuba's frame on
+//                           shapes without uvs; alpha_v)
 //   dielectric              Glass, ior = int_ior / ext_ior (numbers or names: vacuum,
 //                           helium, hydrogen, air, carbon dioxide, water, acetone, ethanol,
 //                           carbon tetrachloride, glycerol, benzene, silicone oil, bromine,
 //                           water ice, fused quartz, pyrex, acrylic glass, polypropylene,
-//                           bk7, sodium chloride, amber, pet, diamond; defaults bk7 / air),
-//                           albedo = specular_transmittance
-//   thindielectric, roughdielectric → Glass (warning)
-//   plastic, roughplastic, principled → Diffuse with diffuse_reflectance / base_color (warning)
+//                           bk7, sodium chloride, amber, pet, diamond; defaults bk7 / air;
+//                           or `eta`), albedo = specular_transmittance, specular =
+//                           specular_reflectance (both default 1)
+//   roughdielectric         RoughDielectric, the same plus the roughness (as roughconductor)
+//   thindielectric          ThinDielectric, the same parameters as dielectric
+//   plastic                 Plastic: albedo = diffuse_reflectance (default 0.5), specular =
+//                           specular_reflectance (default 1), ior = int_ior / ext_ior
+//                           (defaults polypropylene / air), nonlinear
+//   roughplastic            RoughPlastic, the same plus distribution and alpha (a number
+//                           only; alpha_u/alpha_v and an alpha texture are errors, as in
+//                           Mitsuba 3)
+//   principled, principledthin → Diffuse with base_color (warning)
 //   normalmap               its nested BSDF with the `normalmap` texture as its tangent-space
 //                           normal map (normal_scale 1) in Mitsuba's frame: x along dp/du,
 //                           y = n × x whatever the handedness of the uvs (the shapes get
@@ -88,7 +102,7 @@
 // Textures (inline <texture name=...> or <ref name=... id=...> to a top-level one), wherever a
 //   BSDF takes a reflectance (diffuse reflectance, conductor specular_reflectance, plastic
 //   diffuse_reflectance, principled base_color, dielectric specular_transmittance → the
-//   albedo map, the constant 1 (conductors: F0)), roughconductor alpha, normalmap, mask
+//   albedo map, the constant 1), roughconductor and roughdielectric alpha, normalmap, mask
 //   opacity and an area emitter's radiance (→ emission map, emission 1):
 //   bitmap        filename (relative to the XML file; missing: a warning and a placeholder,
 //                 scene/texture.h), raw (true: data, else an sRGB-encoded colour),
@@ -97,14 +111,15 @@
 //                 (its x/y rows and columns and translation → TextureRef::uv_transform),
 //                 format and accel ignored
 //   checkerboard  color0 (0.4), color1 (0.2), to_uv: a 2 x 2 nearest image (color0 top left)
-//   Other texture types: 0.5 grey (warning). roughconductor alpha as a texture: alpha_max ×
-//   G² with G = sqrt(a / alpha_max) per texel (a: the texel's luminance, Mitsuba's eval_1);
+//   Other texture types: 0.5 grey (warning). alpha as a texture: alpha_max × G² with
+//   G = sqrt(a / alpha_max) per texel (a: the texel's luminance, Mitsuba's eval_1);
 //   alpha_u/alpha_v as textures: their mean values (warning). A texture where wavepath takes
-//   a constant (eta, k, a constant emitter's radiance, ...): its mean (checkerboard) or 0.5,
-//   with a warning.
+//   a constant (eta, k, a dielectric's or plastic's specular_reflectance, a constant
+//   emitter's radiance, ...): its mean (checkerboard) or 0.5, with a warning.
 //   Metals (scene/metals.h: RGB η, k fitted by Tungsten's ComplexIorData.hpp from the spectral
-//   data Mitsuba uses): Ag, Al, Au, Be, Cr, Cu, Hg, Ir, K, Li, MgO, Mo, Rh, Ta, TiN, TiO2, VN,
-//   W, Na_palik, Ni_palik.
+//   data Mitsuba uses; Mitsuba 3.9.1's own scalar_rgb values of Ag, Al, Au, Cr, Cu differ by
+//   < 2e-3): Ag, Al, Au, Be, Cr, Cu, Hg, Ir, K, Li, MgO, Mo, Rh, Ta, TiN, TiO2, VN, W,
+//   Na_palik, Ni_palik.
 // Emitters: area (inside a shape): radiance → emission of a material made for that shape
 //   (front side = the shape's normal side). constant (top level): radiance → background
 //   (several add up). envmap (top level): filename (as a bitmap's, read as colour), scale

@@ -1797,10 +1797,11 @@ void Reader::roughness(Directive& d, const std::string& prefix, Material& m,
     }
     m.kind = rough;
     auto clamp_alpha = [&](float a) {
-        const float c = std::clamp(a, 1e-4f, 2.0f);
+        const float c = std::clamp(a, limits::kMinMicrofacetAlpha, limits::kMaxMicrofacetAlpha);
         if (c != a)
             note("alpha clamp", d.loc,
-                 fmt::format("microfacet alpha {} is clamped to [1e-4, 2]", a));
+                 fmt::format("microfacet alpha {} is clamped to [{}, {}]", a,
+                             limits::kMinMicrofacetAlpha, limits::kMaxMicrofacetAlpha));
         return c;
     };
     m.alpha = clamp_alpha(u);

@@ -138,6 +138,8 @@ struct Camera {
     float vfov_deg = 40.0f;  // vertical field of view
     int width = limits::kDefaultWidth;
     int height = limits::kDefaultHeight;
+    float lens_radius = 0.0f;      // thin lens aperture radius (world units); 0: pinhole
+    float focus_distance = 1.0f;   // distance along the viewing direction to the plane in focus (world units)
 };
 
 // Render settings a scene file may carry (JSON "render", Mitsuba integrator/sampler);

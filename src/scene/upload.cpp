@@ -177,6 +177,11 @@ CameraData upload_camera(const Camera& camera, int width, int height, bool jitte
     glm::vec3 up = glm::cross(right, forward);
     if (!(camera.vfov_deg > 0.0f && camera.vfov_deg < 180.0f))
         fail("camera: vertical field of view {} degrees is outside (0, 180)", camera.vfov_deg);
+    if (!(std::isfinite(camera.lens_radius) && camera.lens_radius >= 0.0f))
+        fail("camera: lens radius {} must be finite and >= 0", camera.lens_radius);
+    if (camera.lens_radius > 0.0f &&
+        !(std::isfinite(camera.focus_distance) && camera.focus_distance > 0.0f))
+        fail("camera: focus distance {} must be finite and > 0", camera.focus_distance);
     float tan_half = std::tan(glm::radians(camera.vfov_deg) * 0.5f);
     float aspect = static_cast<float>(width) / static_cast<float>(height);
     CameraData c{};
@@ -187,6 +192,8 @@ CameraData upload_camera(const Camera& camera, int width, int height, bool jitte
     c.width = width;
     c.height = height;
     c.jitter = jitter ? 1 : 0;
+    // Thin lens; radius 0 is the pinhole (the generate stage then ignores the focus distance).
+    c.lens = {camera.lens_radius, camera.focus_distance, 0.0f, 0.0f};
     return c;
 }
 

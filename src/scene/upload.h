@@ -64,9 +64,10 @@ LightTable build_light_table(const Scene& scene);
 // Throws wp::Error when a triangle's material id or vertex index is out of range.
 SceneUpload upload_scene(const Scene& scene);
 
-// The pinhole camera for a width x height image (throws wp::Error for a degenerate camera:
-// position == target, up parallel to the view direction, or a field of view outside
-// (0, 180) degrees).
+// The camera for a width x height image (throws wp::Error for a degenerate camera:
+// position == target, up parallel to the view direction, a field of view outside
+// (0, 180) degrees, a lens radius < 0 or not finite, or with a lens a focus distance <= 0
+// or not finite). lens = (lens_radius, focus_distance, 0, 0).
 CameraData upload_camera(const Camera& camera, int width, int height, bool jitter);
 
 }  // namespace wp

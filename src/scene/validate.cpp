@@ -55,9 +55,17 @@ void validate_scene(const Scene& scene) {
             fail("scene '{}': material {} ('{}') has emission ({}, {}, {}), which must be finite "
                  "and >= 0",
                  name, i, m.name, e.x, e.y, e.z);
-        if (uses_alpha(m.kind) && !(m.alpha > 0.0f && m.alpha <= 1.0f))
+        if (m.kind == MaterialKind::Glossy && !(m.alpha > 0.0f && m.alpha <= 1.0f))
             fail("scene '{}': material {} ('{}') has roughness alpha {}, which must be in (0, 1]",
                  name, i, m.name, m.alpha);
+        // The rough kinds: α (α_u) and α_v in [1e-4, 2] (util/limits.h)
+        if (uses_alpha(m.kind) && m.kind != MaterialKind::Glossy)
+            for (float a : {m.alpha, m.alpha_v.value_or(m.alpha)})
+                if (!(a >= limits::kMinMicrofacetAlpha && a <= limits::kMaxMicrofacetAlpha))
+                    fail("scene '{}': material {} ('{}') has roughness alpha {}, which must be in "
+                         "[{}, {}]",
+                         name, i, m.name, a, limits::kMinMicrofacetAlpha,
+                         limits::kMaxMicrofacetAlpha);
     }
 
     // Camera: a film, a direction, a field of view
@@ -73,6 +81,11 @@ void validate_scene(const Scene& scene) {
     const glm::vec3 side = glm::cross(dir, c.up);
     if (glm::dot(side, side) == 0.0f)
         fail("scene '{}': camera up vector is zero or parallel to the view direction", name);
+    if (!(std::isfinite(c.lens_radius) && c.lens_radius >= 0.0f))
+        fail("scene '{}': camera lens radius {} must be finite and >= 0 (0: pinhole)", name,
+             c.lens_radius);
+    if (!(std::isfinite(c.focus_distance) && c.focus_distance > 0.0f))
+        fail("scene '{}': camera focus distance {} must be finite and > 0", name, c.focus_distance);
 }
 
 bool has_light(const Scene& scene) {

@@ -68,6 +68,13 @@ constexpr std::int64_t kMaxSceneTriangles = std::int64_t(1) << 25;
 // most 2 x kMaxEnvResampleHeight by kMaxEnvResampleHeight texels.
 constexpr int kMaxEnvResampleHeight = 4096;
 
+// Microfacet roughness α of the rough material kinds (roughconductor, roughdielectric,
+// roughplastic; not the glossy kind, which takes (0, 1]): [kMinMicrofacetAlpha,
+// kMaxMicrofacetAlpha] (issue 14's contract). Loaders map a smaller α to the smooth kind and
+// clamp a larger one, each with a note.
+constexpr float kMinMicrofacetAlpha = 1e-4f;
+constexpr float kMaxMicrofacetAlpha = 2.0f;
+
 // The estimator's defaults (sampling, glossy model, sampler, Russian roulette) are
 // kernels/shared/estimator.h's, read by the kernels and render::Estimator alike.
 

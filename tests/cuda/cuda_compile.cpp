@@ -5,7 +5,8 @@
 //
 // For every kernels/*.cl (globbed at run time, so a new stage file is covered at once) and
 // every option set (the kernels' defaults, and the shipped shade configuration plus the
-// debug switches the file reads: WP_STATS, WP_INJECT_NAN, WP_PLAIN_TRIANGLES):
+// debug switches the file reads: WP_STATS, WP_INJECT_NAN, WP_PLAIN_TRIANGLES; the appearance
+// switches and the thin lens, WP_HAVE_LENS, where the file reads them):
 //   1. OpenCL: ocl::assemble_source + a build on the test device (PoCL) gives the entry
 //      points (CL_PROGRAM_KERNEL_NAMES);
 //   2. CUDA: the same assembled text through nvcc -x cu --ptx --fmad=false -std=c++17 with
@@ -53,6 +54,12 @@ const std::string kAppearance = [] {
     render::KernelConfig c;
     c.normals = c.textures = c.normal_maps = c.env = c.alpha_mask = true;
     return c.shade_options() + " " + c.trace_options();
+}();
+// The generate stage with a thin-lens camera (WP_HAVE_LENS), from the renderer's own string.
+const std::string kLens = [] {
+    render::KernelConfig c;
+    c.lens = true;
+    return c.generate_options();
 }();
 
 std::string read_text(const fs::path& p) {
@@ -173,6 +180,10 @@ int main(int argc, char** argv) {
         if (reads("WP_HAVE_NORMALS") || reads("WP_HAVE_ALPHA_MASK")) {
             sets.push_back(kAppearance);
             labels.push_back("shipped + appearance");
+        }
+        if (reads("WP_HAVE_LENS")) {
+            sets.push_back(kLens);
+            labels.push_back("thin lens");
         }
         if (reads("WP_PLAIN_TRIANGLES")) {
             sets.push_back(std::string(kShipped) + " -D WP_PLAIN_TRIANGLES");

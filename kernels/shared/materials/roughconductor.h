@@ -23,7 +23,8 @@ WP_FN int wp_roughconductor_sample(MaterialData m, float3 d, float3 ns, int fron
     (void)front, (void)specular;
     Microfacet mf = wp_microfacet(m);
     float3 vo = wp_to_local(-d, ns);
-    if (!(vo.z > 0.0f)) return 0;
+    float g1o = wp_mf_g1(mf, vo);
+    if (!(g1o > 0.0f)) return 0;  // below the surface, or so grazing that Λ overflows: no visible normal
     float3 h = wp_mf_sample_vndf(mf, vo, u.x, u.y);
     float oh = dot(vo, h);
     if (!(oh > 0.0f)) return 0;
@@ -31,7 +32,7 @@ WP_FN int wp_roughconductor_sample(MaterialData m, float3 d, float3 ns, int fron
     if (!(vi.z > 0.0f)) return 0;  // reflected below the surface: absorbed
     *wo = wp_to_world(vi, ns);
     float3 f = wp_fresnel_conductor(oh, wp_xyz(m.eta), wp_xyz(m.k));
-    *weight = wp_xyz(m.albedo) * f * (wp_mf_g(mf, vo, vi) / wp_mf_g1(mf, vo));
+    *weight = wp_xyz(m.albedo) * f * (wp_mf_g(mf, vo, vi) / g1o);
     *pdf = wp_mf_pdf_vndf(mf, vo, h) / (4.0f * oh);
     return 1;
 }
