@@ -505,6 +505,9 @@ TEST_CASE("pbrt: the camera: LookAt, fov on the shorter axis, screenwindow, mirr
                   "Integrator \"bdpt\" \"integer maxdepth\" 3");
     CHECK(has_warning(g, "Integrator \"bdpt\" is not supported"));
     CHECK(g.render.depth == 3);
+    CHECK(g.camera.lens_radius == 0.1f);  // thin lens: pbrt's plane in focus at camera z = 4
+    CHECK(g.camera.focus_distance == 4.0f);
+    CHECK(e.camera.lens_radius == 0.0f);
     // The camera's inverse transform: pbrt's camera space has +x right, +y up, +z forward
     Scene h = cam("Transform [ 1 0 0 0  0 1 0 0  0 0 -1 0  0 -1 6.8 1 ]\nCamera \"perspective\"");
     check_vec(h.camera.position, {0, 1, 6.8});

@@ -2469,9 +2469,7 @@ void Reader::make_camera() {
     const double focus = get_float(c, "focaldistance").value_or(1e6);
     if (!(lens >= 0.0)) error(c.loc, "Camera: lensradius {} must be >= 0", lens);
     if (!(focus > 0.0)) error(c.loc, "Camera: focaldistance {} must be > 0", focus);
-    if (lens > 0.0)
-        note("dof", c.loc,
-             "depth of field (lensradius) is not supported yet; rendered as a pinhole camera");
+    if (!std::isfinite(float(focus))) error(c.loc, "Camera: focaldistance {} is out of range", focus);
     for (const char* n : {"shutteropen", "shutterclose"}) get_float(c, n);
     finish(c);
 
@@ -2494,6 +2492,10 @@ void Reader::make_camera() {
     cam.target = glm::vec3(pos + fwd);
     cam.up = glm::vec3(glm::normalize(up - glm::dot(up, fwd) * fwd));
     cam.vfov_deg = vfov;
+    // Thin lens: pbrt-v4's plane in focus is at camera-space z = focaldistance, the distance
+    // along the viewing direction, as Camera::focus_distance
+    cam.lens_radius = float(lens);
+    cam.focus_distance = float(focus);
     scene_.camera = cam;
 }
 
