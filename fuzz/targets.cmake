@@ -6,7 +6,8 @@ set(WP_FUZZ_TARGETS
   "json:scene/json_scene.h:parse_json_scene"
   "mitsuba:scene/mitsuba_loader.h:parse_mitsuba"
   "gltf:scene/gltf_loader.h:parse_gltf"
-  "assimp:scene/assimp_loader.h:parse_assimp")
+  "assimp:scene/assimp_loader.h:parse_assimp"
+  "pbrt:scene/pbrt_loader.h:parse_pbrt")
 
 set(WP_FUZZ_DIR ${CMAKE_CURRENT_LIST_DIR})
 

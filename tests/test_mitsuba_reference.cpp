@@ -1,9 +1,11 @@
-// test_mitsuba_reference.cpp — wavepath against two other renderers on the same scene file.
+// test_mitsuba_reference.cpp — wavepath against two other renderers on the same scene, read
+// from its Mitsuba 3 file and from its pbrt-v4 file.
 //
 // ../shared/scenes/cornell-box ships converged 1024 x 1024 renders of its scene by Mitsuba 3
 // and by Tungsten (reference/*.exr). wavepath renders the Mitsuba file (scene_v3.xml) through
-// the Mitsuba reader at 128 x 128; each reference is reduced by an exact 8 x 8 box average
-// (SOURCE.md: a smoothing resize alone costs ~5e-2). Criterion: relMSE (eps = 1e-2, as
+// the Mitsuba reader, and the pbrt-v4 file (scene-v4.pbrt) through the pbrt reader, at
+// 128 x 128; each reference is reduced by an exact 8 x 8 box average (SOURCE.md: a
+// smoothing resize alone costs ~5e-2). Criterion: relMSE (eps = 1e-2, as
 // compare_images computes it) below 2e-3 against each. The floor that remains for a
 // converged box-filtered render is about 7e-4 (SOURCE.md: the references' tent filter spreads
 // the light's edges into the ceiling row next to it). wavepath's own noise, the mean over
@@ -58,10 +60,9 @@ Image reference_128(const fs::path& file, std::array<double, 3> source_means) {
     return small;
 }
 
-} // namespace
-
-TEST_CASE("mitsuba reference: the Cornell box scene_v3.xml matches Mitsuba 3 and Tungsten",
-          "[scene][mitsuba][slow]") {
+// wavepath renders the Cornell box from `file` (relative to ../shared/scenes/cornell-box) at
+// 128 x 128 with the file's depth (`depth`) and compares with both references.
+void check_cornell_against_references(const std::string& file, int depth) {
     const fs::path dir = fs::path(WP_SHARED_SCENES) / "cornell-box";
     if (!fs::exists(dir / "reference" / "Mitsuba3Render.exr")) {
         WARN("SKIP: " << dir
@@ -75,9 +76,9 @@ TEST_CASE("mitsuba reference: the Cornell box scene_v3.xml matches Mitsuba 3 and
     Image tungsten =
         reference_128(dir / "reference" / "TungstenRender.exr", {0.196251, 0.127531, 0.036100});
 
-    // wavepath: the scene file as it is (depth: max_depth 65 = 64 bounces), 128 x 128
-    Scene scene = load_scene_file(dir / "scene_v3.xml");
-    REQUIRE(scene.render.depth == 64);
+    // wavepath: the scene file as it is, 128 x 128
+    Scene scene = load_scene_file(dir / file);
+    REQUIRE(scene.render.depth == depth);
     render::RenderSettings rs;
     rs.width = 128;
     rs.height = 128;
@@ -105,7 +106,7 @@ TEST_CASE("mitsuba reference: the Cornell box scene_v3.xml matches Mitsuba 3 and
     ErrorMetrics vs_tungsten = compare_images(mom.mean, tungsten);
     ErrorMetrics refs = compare_images(tungsten, mitsuba);
     auto m = channel_means(mom.mean);
-    WARN("cornell-box scene_v3.xml at 128x128, "
+    WARN("cornell-box " << file << " at 128x128, "
          << spp << " spp, depth " << rs.depth << ", " << seconds << " s: relMSE vs Mitsuba 3 "
          << vs_mitsuba.relmse << ", vs Tungsten " << vs_tungsten.relmse
          << " (threshold 2e-3); wavepath's own noise (relMSE of its mean) " << own
@@ -118,4 +119,19 @@ TEST_CASE("mitsuba reference: the Cornell box scene_v3.xml matches Mitsuba 3 and
     CHECK(m[0] == Approx(0.196323).epsilon(0.01));
     CHECK(m[1] == Approx(0.127571).epsilon(0.01));
     CHECK(m[2] == Approx(0.036112).epsilon(0.01));
+}
+
+} // namespace
+
+// max_depth 65 = 64 bounces (Mitsuba counts path segments)
+TEST_CASE("mitsuba reference: the Cornell box scene_v3.xml matches Mitsuba 3 and Tungsten",
+          "[scene][mitsuba][slow]") {
+    check_cornell_against_references("scene_v3.xml", 64);
+}
+
+// maxdepth 65 = 65 bounces (pbrt counts bounces); issue 14: the pbrt-v4 file matches the
+// references as well as the Mitsuba file does
+TEST_CASE("pbrt reference: the Cornell box scene-v4.pbrt matches Mitsuba 3 and Tungsten",
+          "[scene][pbrt][image][slow]") {
+    check_cornell_against_references("scene-v4.pbrt", 65);
 }

@@ -13,6 +13,7 @@
 #include "scene/json_scene.h"
 #include "scene/mitsuba_loader.h"
 #include "scene/obj_loader.h"
+#include "scene/pbrt_loader.h"
 #include "util/error.h"
 
 namespace wp {
@@ -59,9 +60,10 @@ Scene load_scene_file(const fs::path& path) {
     std::string ext = lower_extension(path);
     if (ext == ".json") return load_json_scene(path);
     if (ext == ".xml") return load_mitsuba(path);
+    if (ext == ".pbrt") return load_pbrt(path);
     if (ext == ".obj" || ext == ".gltf" || ext == ".glb" || is_assimp_extension(ext))
         return load_mesh_file(path);
-    fail("scene file '{}': unsupported format '{}' (supported: .json, .xml (Mitsuba 3), {})",
+    fail("scene file '{}': unsupported format '{}' (supported: .json, .xml (Mitsuba 3), .pbrt (pbrt-v4), {})",
          path.string(), ext, kMeshFormats);
 }
 

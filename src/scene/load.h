@@ -3,6 +3,7 @@
 // load_scene_file picks the reader by extension (case-insensitive):
 //   .json                      wavepath scene file      (scene/json_scene.h)
 //   .xml                       Mitsuba 3 scene subset   (scene/mitsuba_loader.h)
+//   .pbrt                      pbrt-v4 scene subset     (scene/pbrt_loader.h)
 //   .obj                       Wavefront OBJ/MTL        (scene/obj_loader.h)
 //   .gltf .glb                 glTF 2.0                 (scene/gltf_loader.h)
 //   .ply and other mesh files  through Assimp           (scene/assimp_loader.h)
@@ -21,7 +22,7 @@ namespace wp {
 // The mesh extensions load_mesh_file accepts besides .obj, .gltf, .glb (lower case, with dot).
 bool is_assimp_extension(const std::string& ext);
 
-// Any supported file: scene files (.json, .xml) and mesh files. Throws wp::Error for a
+// Any supported file: scene files (.json, .xml, .pbrt) and mesh files. Throws wp::Error for a
 // missing file or an unknown extension, naming the supported ones.
 Scene load_scene_file(const std::filesystem::path& path);
 

@@ -17,9 +17,11 @@
 #include <pugixml.hpp>
 
 #include "scene/load.h"
+#include "scene/metals.h"
 #include "scene/normals.h"
 #include "scene/procedural.h"
 #include "scene/shape_uv.h"
+#include "scene/tessellate.h"
 #include "scene/texture.h"
 #include "scene/validate.h"
 #include "util/error.h"
@@ -44,7 +46,6 @@ constexpr int kMaxElementNesting = 64;
 constexpr std::size_t kMaxExpansion = std::size_t(1) << 16; // bytes of one expanded attribute
 constexpr std::uintmax_t kMaxFileBytes = std::uintmax_t(256) << 20;
 // Tessellation of the analytic shapes.
-constexpr int kSphereSubdivisions = 4; // 20 * 4^4 = 5,120 triangles
 constexpr int kRoundSegments = 128;    // disk and cylinder
 
 // --- Grammar ------------------------------------------------------------------------------
@@ -130,33 +131,6 @@ constexpr NamedIor kIors[] = {
     {"pyrex", 1.470},     {"acrylic glass", 1.49},     {"polypropylene", 1.49},
     {"bk7", 1.5046},      {"sodium chloride", 1.544},  {"amber", 1.55},
     {"pet", 1.5750},      {"diamond", 2.419},
-};
-
-// RGB complex indices of refraction of common metals: the values of Tungsten's
-// ComplexIorData.hpp (fits of the same measured spectra Mitsuba's conductor uses).
-struct Metal {
-    std::string_view name;
-    glm::vec3 eta, k;
-};
-const Metal kMetals[] = {
-    {"Ag", {0.1552646f, 0.1167233f, 0.1383807f}, {4.8283433f, 3.1222459f, 2.1469504f}},
-    {"Al", {1.6574600f, 0.8803690f, 0.5212287f}, {9.2238692f, 6.2695232f, 4.8370012f}},
-    {"Au", {0.1431190f, 0.3749570f, 1.4424786f}, {3.9831604f, 2.3857207f, 1.6032153f}},
-    {"Be", {4.1850593f, 3.1850604f, 2.7840913f}, {3.8354398f, 3.0101260f, 2.8690089f}},
-    {"Cr", {4.3696829f, 2.9167025f, 1.6547005f}, {5.2064338f, 4.2313645f, 3.7549468f}},
-    {"Cu", {0.2004377f, 0.9240334f, 1.1022120f}, {3.9129485f, 2.4528477f, 2.1421880f}},
-    {"Hg", {2.3989315f, 1.4400255f, 0.9095512f}, {6.3276269f, 4.3719414f, 3.4217899f}},
-    {"Ir", {3.0864098f, 2.0821938f, 1.6178867f}, {5.5921510f, 4.0671757f, 3.2672611f}},
-    {"K", {0.0640493f, 0.0464101f, 0.0381842f}, {2.1042156f, 1.3489364f, 0.9132114f}},
-    {"Li", {0.2657872f, 0.1956102f, 0.2209199f}, {3.5401743f, 2.3111307f, 1.6685930f}},
-    {"Mo", {4.4837010f, 3.5254578f, 2.7760769f}, {4.1111308f, 3.4208716f, 3.1506031f}},
-    {"Na_palik", {0.0602665f, 0.0561412f, 0.0619909f}, {3.1792906f, 2.1124801f, 1.5790940f}},
-    {"Ni_palik", {2.3672754f, 1.6633583f, 1.4670554f}, {4.4988330f, 3.0501644f, 2.3454274f}},
-    {"Rh", {2.5857955f, 1.8601866f, 1.5544280f}, {6.7822927f, 4.7029501f, 3.9760892f}},
-    {"Ta", {2.0625847f, 2.3930916f, 2.6280685f}, {2.4080468f, 1.7413706f, 1.9470377f}},
-    {"TiN", {1.6484692f, 1.1504483f, 1.3797795f}, {3.3684596f, 1.9434889f, 1.1020123f}},
-    {"VN", {2.8656012f, 2.1191818f, 1.9400767f}, {3.0323265f, 2.0561076f, 1.6162931f}},
-    {"W", {4.3707030f, 3.3002972f, 2.9982667f}, {3.5006779f, 2.6048653f, 2.2731931f}},
 };
 
 // --- Texels ---------------------------------------------------------------------------------
@@ -1414,11 +1388,9 @@ Material Reader::read_bsdf(pugi::xml_node n, int depth, bool two_sided) {
                 glm::any(glm::lessThan(m.k, glm::vec3(0.0f))))
                 error(n, "eta and k must be >= 0");
         } else if (material && *material != "none") {
-            auto it = std::find_if(std::begin(kMetals), std::end(kMetals),
-                                   [&](const Metal& x) { return x.name == *material; });
-            if (it != std::end(kMetals)) {
-                m.eta = it->eta;
-                m.k = it->k;
+            if (const MetalIor* metal = find_metal(*material)) {
+                m.eta = metal->eta;
+                m.k = metal->k;
             } else {
                 note("metal " + *material, n,
                      fmt::format("conductor material '{}' is not in wavepath's table of metals; "
@@ -1604,23 +1576,6 @@ std::uint32_t Reader::shape_material(Obj& o, std::optional<glm::vec3> emission,
     return *default_material_;
 }
 
-// Unit meshes of the analytic shapes, tessellated once.
-const Mesh& unit_sphere() {
-    static const Mesh sphere = [] {
-        Mesh s = make_icosphere(glm::vec3(0.0f), 1.0f, kSphereSubdivisions);
-        double area = 0.0;
-        for (const auto& t : s.triangles) {
-            glm::dvec3 a(s.positions[t.x]), b(s.positions[t.y]), c(s.positions[t.z]);
-            area += 0.5 * glm::length(glm::cross(b - a, c - a));
-        }
-        const float k = float(std::sqrt(4.0 * kPi / area)); // area-preserving radius
-        for (auto& p : s.positions)
-            p *= k;
-        return s;
-    }();
-    return sphere;
-}
-
 // Per-vertex tangents for Mitsuba's normal-map frame: the normalised sum of the unit dp/du
 // of the vertex's faces, w = +1 (so the bitangent is n × t, Mitsuba's y axis); zero where
 // no face has usable uvs (the upload computes one there).
@@ -1723,26 +1678,15 @@ ShapeGeometry cube_geometry() {
     return g;
 }
 
-// sphere: the unit icosphere (area-preserving radius), normals p / |p|; with uvs (only when
-// textured: they split vertices at the seam and the poles) Mitsuba's (phi / 2 pi, theta / pi),
-// phi = atan2(y, x) in [0, 2 pi), theta measured from +z.
+// sphere: the unit sphere of scene/tessellate.h (area 4 pi, normals p / |p|); uvs (only
+// when textured: they split vertices at the seam and the poles) Mitsuba's.
 ShapeGeometry sphere_geometry(bool with_uvs) {
-    const Mesh& unit = unit_sphere();
+    TessellatedShape t = tessellated_sphere(with_uvs);
     ShapeGeometry g;
-    g.positions = unit.positions;
-    g.triangles = unit.triangles;
-    for (const auto& p : g.positions) g.normals.push_back(glm::normalize(p));
-    if (with_uvs)
-        wrap_uvs(
-            g.positions, g.triangles, g.normals, g.uvs,
-            [](glm::vec3 p) {
-                double phi = std::atan2(double(p.y), double(p.x));
-                if (phi < 0.0) phi += 2.0 * kPi;
-                const double theta =
-                    std::acos(std::clamp(double(p.z) / glm::length(glm::dvec3(p)), -1.0, 1.0));
-                return glm::vec2(float(phi / (2.0 * kPi)), float(theta / kPi));
-            },
-            [](glm::vec3 p) { return p.x == 0.0f && p.y == 0.0f; });
+    g.positions = std::move(t.positions);
+    g.triangles = std::move(t.triangles);
+    g.normals = std::move(t.normals);
+    g.uvs = std::move(t.uvs);
     return g;
 }
 

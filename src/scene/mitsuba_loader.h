@@ -116,9 +116,10 @@
 //   alpha_u/alpha_v as textures: their mean values (warning). A texture where wavepath takes
 //   a constant (eta, k, a dielectric's or plastic's specular_reflectance, a constant
 //   emitter's radiance, ...): its mean (checkerboard) or 0.5, with a warning.
-//   Metals (RGB η, k fitted by Tungsten's ComplexIorData.hpp from the spectral data Mitsuba
-//   uses; Mitsuba 3.9.1's own scalar_rgb values of Ag, Al, Au, Cr, Cu differ by < 2e-3):
-//   Ag, Al, Au, Be, Cr, Cu, Hg, Ir, K, Li, Mo, Rh, Ta, TiN, VN, W, Na_palik, Ni_palik.
+//   Metals (scene/metals.h: RGB η, k fitted by Tungsten's ComplexIorData.hpp from the spectral
+//   data Mitsuba uses; Mitsuba 3.9.1's own scalar_rgb values of Ag, Al, Au, Cr, Cu differ by
+//   < 2e-3): Ag, Al, Au, Be, Cr, Cu, Hg, Ir, K, Li, MgO, Mo, Rh, Ta, TiN, TiO2, VN, W,
+//   Na_palik, Ni_palik.
 // Emitters: area (inside a shape): radiance → emission of a material made for that shape
 //   (front side = the shape's normal side). constant (top level): radiance → background
 //   (several add up). envmap (top level): filename (as a bitmap's, read as colour), scale

@@ -53,6 +53,21 @@ constexpr double kMaxEnvScale = 1e6;
 constexpr double kMaxEnvRotateDeg = 360.0;
 constexpr double kMaxCreaseDeg = 180.0;
 
+// Scene files (scene/pbrt_loader.h; the other loaders keep their own local caps for now):
+// each file read at most kMaxSceneFileBytes; Include/Import nested at most kMaxIncludeDepth
+// deep and at most kMaxIncludes files in all (a file included twice counts twice, so a
+// diamond of includes cannot grow exponentially); AttributeBegin/TransformBegin/ObjectBegin
+// nested at most kMaxAttributeDepth deep; at most kMaxSceneTriangles triangles in all,
+// instances flattened (a scene over it is an error naming the directive that passed it).
+constexpr std::int64_t kMaxSceneFileBytes = std::int64_t(1) << 30;
+constexpr int kMaxIncludeDepth = 32;
+constexpr int kMaxIncludes = 4096;
+constexpr int kMaxAttributeDepth = 4096;
+constexpr std::int64_t kMaxSceneTriangles = std::int64_t(1) << 25;
+// pbrt-v4's square equal-area environment maps are resampled to equirectangular maps of at
+// most 2 x kMaxEnvResampleHeight by kMaxEnvResampleHeight texels.
+constexpr int kMaxEnvResampleHeight = 4096;
+
 // Microfacet roughness α of the rough material kinds (roughconductor, roughdielectric,
 // roughplastic; not the glossy kind, which takes (0, 1]): [kMinMicrofacetAlpha,
 // kMaxMicrofacetAlpha] (issue 14's contract). Loaders map a smaller α to the smooth kind and
