@@ -150,12 +150,13 @@ TEST_CASE("render: kernel options follow the scene's materials", "[render]") {
     CHECK(cfg.emission);
     CHECK(cfg.options().find("-D WP_HAVE_MIRROR=0") != std::string::npos);
     // Every kind of material_kinds.h: a name that parses back, and its own switch.
+#define WP_KIND_SWITCH_(KIND, Kind, name, specular, alpha, ior, etak) "WP_HAVE_" #KIND,
+    const char* switches[] = {WP_MATERIAL_KINDS(WP_KIND_SWITCH_)};
+#undef WP_KIND_SWITCH_
     for (int i = 0; i < kMaterialKindCount; ++i) {
         const auto k = static_cast<MaterialKind>(i);
         CHECK(material_kind_from_string(to_string(k)) == k);
-        std::string upper = to_string(k);
-        for (char& c : upper) c = char(std::toupper(static_cast<unsigned char>(c)));
-        CHECK(cfg.options().find("-D WP_HAVE_" + upper + "=") != std::string::npos);
+        CHECK(cfg.options().find(std::string("-D ") + switches[i] + "=") != std::string::npos);
     }
     auto box = render::KernelConfig::from_scene(make_cornell_box(200));
     CHECK((box.has(MaterialKind::Diffuse) && box.has(MaterialKind::Mirror) &&
