@@ -192,7 +192,7 @@ void apply_scene_edits(const SceneEdits& e, Scene& scene) {
 }
 
 const char* const kSceneArgHelp =
-    "Scene: a wavepath scene file (.json), a Mitsuba 3 scene (.xml), a mesh file (.obj with its "
+    "Scene: a wavepath scene file (.json), a Mitsuba 3 scene (.xml), a pbrt-v4 scene (.pbrt), a mesh file (.obj with its "
     ".mtl, .gltf, .glb, .ply, .stl, .3ds, .dae, .fbx), or builtin:cornell-box (the "
     "default), builtin:closed-box-furnace, builtin:veach-plates";
 
