@@ -90,4 +90,24 @@ std::vector<Hit> brute_force(std::span<const glm::vec3> positions, std::span<con
     return hits;
 }
 
+
+Measure measure(const Scene& s, long mat) {
+    Measure m;
+    for (std::size_t i = 0; i < s.triangles.size(); ++i) {
+        if (mat >= 0 && s.material_ids[i] != std::uint32_t(mat)) continue;
+        const auto& t = s.triangles[i];
+        glm::dvec3 a(s.positions[t.x]), b(s.positions[t.y]), c(s.positions[t.z]);
+        glm::dvec3 n = glm::cross(b - a, c - a);
+        m.area += 0.5 * glm::length(n);
+        m.normal_sum += 0.5 * n;
+        m.volume += glm::dot(a, glm::cross(b, c)) / 6.0;
+        ++m.triangles;
+        for (const auto& p : {a, b, c}) {
+            m.lo = glm::min(m.lo, p);
+            m.hi = glm::max(m.hi, p);
+        }
+    }
+    return m;
+}
+
 }  // namespace wp::test

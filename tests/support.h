@@ -9,6 +9,7 @@
 #include <glm/glm.hpp>
 
 #include "cl/device.h"
+#include "scene/scene.h"
 #include "shared/types.h"
 #include "util/splitmix.h"
 
@@ -34,5 +35,17 @@ std::vector<Ray> random_rays(std::size_t n, std::uint64_t seed, glm::vec3 lo, gl
 // documented tie rule (smallest index at equal t). Runs on all cores.
 std::vector<Hit> brute_force(std::span<const glm::vec3> positions, std::span<const glm::uvec3> tris,
                              const std::vector<Ray>& rays, bool any_hit = false);
+
+
+// Area, area-weighted winding normal, signed volume (positive when the winding is outward),
+// count and bounds of the triangles of `s` with material `mat` (all when mat < 0), in
+// double: what loader tests compare between two files of one scene.
+struct Measure {
+    double area = 0, volume = 0;
+    glm::dvec3 normal_sum{0.0};  // sum of area-weighted winding normals
+    std::size_t triangles = 0;
+    glm::dvec3 lo{1e300}, hi{-1e300};
+};
+Measure measure(const Scene& s, long mat = -1);
 
 }  // namespace wp::test

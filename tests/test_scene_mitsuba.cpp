@@ -61,33 +61,8 @@ std::string error_of_body(const std::string& body) {
     return error_of("<scene version=\"3.0.0\">\n" + body + "\n</scene>\n");
 }
 
-// Sum of triangle areas and the signed volume (divergence theorem; positive when the
-// winding is outward) of the triangles with material `mat` (all when mat < 0).
-struct Measure {
-    double area = 0, volume = 0;
-    glm::dvec3 normal_sum{0.0}; // sum of area-weighted winding normals
-    std::size_t triangles = 0;
-    glm::dvec3 lo{1e300}, hi{-1e300};
-};
-
-Measure measure(const Scene& s, long mat = -1) {
-    Measure m;
-    for (std::size_t i = 0; i < s.triangles.size(); ++i) {
-        if (mat >= 0 && s.material_ids[i] != std::uint32_t(mat)) continue;
-        const auto& t = s.triangles[i];
-        glm::dvec3 a(s.positions[t.x]), b(s.positions[t.y]), c(s.positions[t.z]);
-        glm::dvec3 n = glm::cross(b - a, c - a);
-        m.area += 0.5 * glm::length(n);
-        m.normal_sum += 0.5 * n;
-        m.volume += glm::dot(a, glm::cross(b, c)) / 6.0;
-        ++m.triangles;
-        for (const auto& p : {a, b, c}) {
-            m.lo = glm::min(m.lo, p);
-            m.hi = glm::max(m.hi, p);
-        }
-    }
-    return m;
-}
+using test::Measure;
+using test::measure;
 
 bool has_warning(const Scene& s, const std::string& text) {
     for (const auto& w : s.warnings)

@@ -174,18 +174,8 @@ WP_FN float3 wp_mf_sample_vndf(Microfacet mf, float3 w, float u1, float u2) {
         float sy = (sphi * s.x + cphi * s.y) * mf.ay;
         return wp_mf_from_axes(mf, normalize(make_float3(-sx, -sy, 1.0f)));
     }
-    // GGX: Heitz 2018, listing 1.
-    float lensq = wh.x * wh.x + wh.y * wh.y;
-    float3 t1 = lensq > 0.0f ? make_float3(-wh.y, wh.x, 0.0f) * (1.0f / sqrt(lensq))
-                             : make_float3(1.0f, 0.0f, 0.0f);
-    float3 t2 = cross(wh, t1);
-    float r = sqrt(u1);
-    float phi = 2.0f * WP_PI * u2;
-    float p1 = r * cos(phi);
-    float p2 = r * sin(phi);
-    float s = 0.5f * (1.0f + wh.z);
-    p2 = (1.0f - s) * sqrt(max(0.0f, 1.0f - p1 * p1)) + s * p2;
-    float3 nh = t1 * p1 + t2 * p2 + wh * sqrt(max(0.0f, 1.0f - p1 * p1 - p2 * p2));
+    // GGX: Heitz 2018, listing 1 (sampling.h).
+    float3 nh = wp_vndf_hemisphere(wh, u1, u2);
     return wp_mf_from_axes(mf, normalize(make_float3(mf.ax * nh.x, mf.ay * nh.y, max(1e-6f, nh.z))));
 }
 

@@ -129,11 +129,10 @@ WP_FN float wp_ggx_g2(float3 wo, float3 wi, float alpha) {
     return 1.0f / (1.0f + wp_ggx_lambda(wo, alpha) + wp_ggx_lambda(wi, alpha));
 }
 
-// A microfacet normal h from the distribution of normals visible from wo (wo.z > 0):
-// density D_wo(h) = G1(wo) max(0, wo·h) D(h) / wo.z (Heitz 2018, listing 1).
-WP_FN float3 wp_ggx_sample_vndf(float3 wo, float alpha, float u1, float u2) {
-    // Stretch the view direction to the hemisphere configuration.
-    float3 vh = normalize(make_float3(alpha * wo.x, alpha * wo.y, wo.z));
+// A normal of the unit hemisphere visible from the unit direction vh (vh.z > 0), the
+// stretched configuration of GGX visible-normal sampling (Heitz 2018, listing 1, lines 3-12);
+// wp_ggx_sample_vndf and microfacet.h unstretch it with their widths.
+WP_FN float3 wp_vndf_hemisphere(float3 vh, float u1, float u2) {
     // Orthonormal basis around vh (T1 = (1, 0, 0) when vh is +z).
     float lensq = vh.x * vh.x + vh.y * vh.y;
     float3 t1 = lensq > 0.0f ? make_float3(-vh.y, vh.x, 0.0f) * (1.0f / sqrt(lensq))
@@ -146,8 +145,16 @@ WP_FN float3 wp_ggx_sample_vndf(float3 wo, float alpha, float u1, float u2) {
     float p2 = r * sin(phi);
     float s = 0.5f * (1.0f + vh.z);
     p2 = (1.0f - s) * sqrt(max(0.0f, 1.0f - p1 * p1)) + s * p2;
-    // Project onto the hemisphere and unstretch.
-    float3 nh = t1 * p1 + t2 * p2 + vh * sqrt(max(0.0f, 1.0f - p1 * p1 - p2 * p2));
+    // Project onto the hemisphere.
+    return t1 * p1 + t2 * p2 + vh * sqrt(max(0.0f, 1.0f - p1 * p1 - p2 * p2));
+}
+
+// A microfacet normal h from the distribution of normals visible from wo (wo.z > 0):
+// density D_wo(h) = G1(wo) max(0, wo·h) D(h) / wo.z (Heitz 2018, listing 1).
+WP_FN float3 wp_ggx_sample_vndf(float3 wo, float alpha, float u1, float u2) {
+    // Stretch the view direction to the hemisphere configuration, sample, unstretch.
+    float3 vh = normalize(make_float3(alpha * wo.x, alpha * wo.y, wo.z));
+    float3 nh = wp_vndf_hemisphere(vh, u1, u2);
     return normalize(make_float3(alpha * nh.x, alpha * nh.y, max(1e-6f, nh.z)));
 }
 

@@ -118,16 +118,8 @@ constexpr NamedGlass kGlasses[] = {
     {"glass-F11", 1.78472},
 };
 
-float srgb_to_linear(float c) {
-    return c <= 0.04045f ? c / 12.92f : std::pow((c + 0.055f) / 1.055f, 2.4f);
-}
-
-// Channel c (0..3) of texel i as a linear value (8-bit sRGB colour channels decoded).
-float texel(const Texture& t, std::size_t i, int c) {
-    if (t.is_float()) return t.texelsf[i * 4 + std::size_t(c)];
-    const float v = float(t.texels8[i * 4 + std::size_t(c)]) / 255.0f;
-    return t.srgb && c < 3 ? srgb_to_linear(v) : v;
-}
+// Channel c of texel i, linear (scene/texture.h).
+float texel(const Texture& t, std::size_t i, int c) { return texel_linear(t, i, c); }
 
 // --- pbrt-v4's equal-area octahedral sphere mapping (Clarberg 2008) --------------------------
 

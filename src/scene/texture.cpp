@@ -444,4 +444,11 @@ TextureUpload upload_textures(const std::vector<const Texture*>& textures) {
     return up;
 }
 
+float texel_linear(const Texture& t, std::size_t i, int c) {
+    if (t.is_float()) return t.texelsf[i * 4 + std::size_t(c)];
+    const float v = float(t.texels8[i * 4 + std::size_t(c)]) / 255.0f;
+    if (!t.srgb || c == 3) return v;
+    return v <= 0.04045f ? v / 12.92f : std::pow((v + 0.055f) / 1.055f, 2.4f);
+}
+
 }  // namespace wp

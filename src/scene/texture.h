@@ -95,4 +95,9 @@ struct TextureUpload {
 // (offsets are int on the device).
 TextureUpload upload_textures(const std::vector<const Texture*>& textures);
 
+// Channel c (0..3) of texel i as a linear value: float texels as stored, 8-bit ones / 255
+// with the sRGB colour channels decoded (in float). For loaders that derive constants or
+// maps from an image (means, luminance, resampling).
+float texel_linear(const Texture& t, std::size_t i, int c);
+
 }  // namespace wp
