@@ -1340,8 +1340,8 @@ void Reader::read_shape(const Json& v, const Path& p, Scene& s) {
         reserve_triangles(double(mesh.triangles.size()), fp, "mesh file");
         std::optional<std::uint32_t> id;
         if (const Json* m = get("material")) id = use_material(*m, p.key("material"));
-        // A named material without textures needs no texture coordinates
-        if (id && !s.materials[*id].textured()) {
+        // A named material without textures or anisotropy needs no texture coordinates
+        if (id && !s.materials[*id].textured() && !s.materials[*id].anisotropic()) {
             mesh.uvs.clear();
             mesh.tangents.clear();
         }

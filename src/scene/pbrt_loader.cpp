@@ -1797,12 +1797,7 @@ void Reader::roughness(Directive& d, const std::string& prefix, Material& m,
         return c;
     };
     m.alpha = clamp_alpha(u);
-    if (v != u) {
-        m.alpha_v = clamp_alpha(v);
-        note("anisotropic", d.loc,
-             "anisotropic roughness: wavepath's tangent frame (built from the shading normal) "
-             "is not pbrt's (dp/du), so the highlight's orientation differs");
-    }
+    if (v != u) m.alpha_v = clamp_alpha(v);  // α_u along dp/du, as pbrt-v4 (microfacet.h)
 }
 
 // A dielectric's index of refraction: a float, or a spectrum (a named glass's n_d, else the
@@ -2510,9 +2505,9 @@ Scene Reader::read() {
     if (scene_.triangles.empty())
         fail("{}: no shape that wavepath can render ({} skipped)", files_[0], skipped_shapes_);
     make_camera();
-    // uvs only where a material has a texture
+    // uvs only where a material reads them: a texture, or anisotropic roughness (dp/du)
     bool textured = false;
-    for (const Material& m : scene_.materials) textured = textured || m.textured();
+    for (const Material& m : scene_.materials) textured = textured || m.textured() || m.anisotropic();
     if (!textured) scene_.uvs.clear();
     scene_.prune_textures();
     for (const Note& nt : notes_)
