@@ -9,7 +9,7 @@
 //             their contract);
 //   SPECULAR  1: every event is a Dirac lobe (light sampling cannot reach it, so shade skips
 //             next-event estimation; wp_material_is_specular);
-//   ALPHA     1: the kind reads the GGX roughness α (Material::alpha, MaterialData.alpha);
+//   ALPHA     1: the kind reads the microfacet roughness α (Material::alpha, ::alpha_v);
 //   IOR       1: the kind reads the index of refraction (Material::ior, MaterialData.ior);
 //   ETAK      1: the kind reads a conductor's complex index of refraction (Material::eta, ::k).
 // Colours: MaterialData.albedo is the colour the albedo texture multiplies: the diffuse
