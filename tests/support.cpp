@@ -1,6 +1,9 @@
 #include "support.h"
 
+#include <algorithm>
 #include <cstdlib>
+#include <fstream>
+#include <regex>
 #include <thread>
 
 #include "shared/triangle.h"
@@ -108,6 +111,37 @@ Measure measure(const Scene& s, long mat) {
         }
     }
     return m;
+}
+
+
+std::map<std::string, long> readme_counts(const std::filesystem::path& readme) {
+    std::ifstream in(readme);
+    std::map<std::string, long> out;
+    std::string line;
+    const std::regex row(R"(^\| \[([a-z0-9-]+)\]\([^)]*\) \| ([0-9,]+)( \(\+([0-9,]+)[^)]*\))?)");
+    auto num = [](std::string s) {
+        s.erase(std::remove(s.begin(), s.end(), ','), s.end());
+        return std::stol(s);
+    };
+    std::smatch m;
+    while (std::getline(in, line))
+        if (std::regex_search(line, m, row))
+            out[m[1]] = num(m[2]) + (m[4].matched ? num(m[4]) : 0);
+    return out;
+}
+
+std::vector<std::filesystem::path> shared_scene_files(const std::filesystem::path& root,
+                                                      const std::string& file) {
+    std::vector<std::filesystem::path> out;
+    for (const auto& e : std::filesystem::directory_iterator(root))
+        if (e.is_directory() && std::filesystem::exists(e.path() / file)) out.push_back(e.path() / file);
+    std::sort(out.begin(), out.end());
+    return out;
+}
+
+float texel_at(const Texture& t, int x, int y, int c) {
+    const std::size_t i = (std::size_t(y) * std::size_t(t.width) + std::size_t(x)) * 4 + std::size_t(c);
+    return t.is_float() ? t.texelsf.at(i) : float(t.texels8.at(i)) / 255.0f;
 }
 
 }  // namespace wp::test

@@ -3,12 +3,16 @@
 #pragma once
 
 #include <cstdint>
+#include <filesystem>
+#include <map>
+#include <string>
 #include <span>
 #include <vector>
 
 #include <glm/glm.hpp>
 
 #include "cl/device.h"
+#include "image/image.h"
 #include "scene/scene.h"
 #include "shared/types.h"
 #include "util/splitmix.h"
@@ -47,5 +51,28 @@ struct Measure {
     glm::dvec3 lo{1e300}, hi{-1e300};
 };
 Measure measure(const Scene& s, long mat = -1);
+
+// The shared scenes' README table: scene folder -> expected triangles, with the table's
+// "(+N ...)" extras added ("126,048 (+2 floor)" -> 126,050).
+std::map<std::string, long> readme_counts(const std::filesystem::path& readme);
+// Every `root/<scene>/<file>` that exists, sorted.
+std::vector<std::filesystem::path> shared_scene_files(const std::filesystem::path& root,
+                                                      const std::string& file);
+
+// Channel c of texel (x, y) of a texture as stored (8-bit values / 255, not decoded).
+float texel_at(const Texture& t, int x, int y, int c);
+
+// Writes a w x h linear float image whose pixel (x, y) (row 0 at the top) is f(x, y).
+template <class F>
+void write_exr(const std::filesystem::path& p, int w, int h, F f) {
+    Image img(w, h);
+    for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x) {
+            const glm::vec3 c = f(x, y);
+            float* px = img.pixel(x, y);
+            px[0] = c.x, px[1] = c.y, px[2] = c.z;
+        }
+    write_image(p, img);
+}
 
 }  // namespace wp::test

@@ -63,6 +63,8 @@ std::string error_of_body(const std::string& body) {
 
 using test::Measure;
 using test::measure;
+using test::texel_at;
+using test::write_exr;
 
 bool has_warning(const Scene& s, const std::string& text) {
     for (const auto& w : s.warnings)
@@ -891,15 +893,6 @@ long readme_triangles(const fs::path& readme, const std::string& name) {
     return -1;
 }
 
-std::vector<fs::path> shared_mitsuba_scenes(const fs::path& root) {
-    std::vector<fs::path> out;
-    for (const auto& e : fs::directory_iterator(root))
-        if (e.is_directory() && fs::exists(e.path() / "scene_v3.xml"))
-            out.push_back(e.path() / "scene_v3.xml");
-    std::sort(out.begin(), out.end());
-    return out;
-}
-
 } // namespace
 
 TEST_CASE("mitsuba: every shared scene_v3.xml loads with the README's triangle count",
@@ -909,7 +902,7 @@ TEST_CASE("mitsuba: every shared scene_v3.xml loads with the README's triangle c
         WARN("SKIP: " << root << " does not exist (the shared test scenes are not checked out)");
         return;
     }
-    auto files = shared_mitsuba_scenes(root);
+    auto files = test::shared_scene_files(root, "scene_v3.xml");
     REQUIRE(files.size() >= 3); // cornell-box, veach-bidir, veach-mis
     for (const fs::path& f : files) {
         const std::string name = f.parent_path().filename().string();
@@ -996,7 +989,7 @@ TEST_CASE("mitsuba: every shared scene_v3.xml renders without NaN or Inf",
         WARN("SKIP: " << root << " does not exist (the shared test scenes are not checked out)");
         return;
     }
-    for (const fs::path& f : shared_mitsuba_scenes(root)) {
+    for (const fs::path& f : test::shared_scene_files(root, "scene_v3.xml")) {
         INFO(f);
         Scene s = load_scene_file(f);
         render::RenderSettings rs;
@@ -1053,25 +1046,6 @@ namespace {
 
 Scene parse_in(const TempDir& d, const std::string& body) {
     return parse_mitsuba("<scene version=\"3.0.0\">\n" + body + "\n</scene>\n", d.path / "test.xml");
-}
-
-// A w x h linear float EXR whose pixel (x, y) (row 0 at the top) is f(x, y).
-template <class F>
-void write_exr(const fs::path& p, int w, int h, F f) {
-    Image img(w, h);
-    for (int y = 0; y < h; ++y)
-        for (int x = 0; x < w; ++x) {
-            const glm::vec3 c = f(x, y);
-            float* px = img.pixel(x, y);
-            px[0] = c.x, px[1] = c.y, px[2] = c.z;
-        }
-    write_image(p, img);
-}
-
-// Channel c of texel (x, y) of a texture, linear (float textures and checkerboards here).
-float texel_at(const Texture& t, int x, int y, int c) {
-    const std::size_t i = (std::size_t(y) * std::size_t(t.width) + std::size_t(x)) * 4 + std::size_t(c);
-    return t.is_float() ? t.texelsf.at(i) : float(t.texels8.at(i)) / 255.0f;
 }
 
 glm::vec2 apply_uv(const glm::mat3& m, glm::vec2 uv) { return glm::vec2(m * glm::vec3(uv, 1.0f)); }

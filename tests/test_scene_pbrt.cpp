@@ -89,6 +89,8 @@ std::string all_warnings(const Scene& s) {
 
 using test::Measure;
 using test::measure;
+using test::texel_at;
+using test::write_exr;
 
 void check_vec(glm::dvec3 got, glm::dvec3 want, double tol = 1e-5) {
     INFO("got (" << got.x << ", " << got.y << ", " << got.z << "), want (" << want.x << ", "
@@ -115,24 +117,6 @@ glm::dvec3 square_to_sphere(double px, double py) {
     const double c = std::copysign(std::cos(phi), u), s = std::copysign(std::sin(phi), v);
     const double k = r * std::sqrt(std::max(0.0, 2 - r * r));
     return {c * k, s * k, z};
-}
-
-template <class F>
-void write_exr(const fs::path& p, int w, int h, F f) {
-    Image img(w, h);
-    for (int y = 0; y < h; ++y)
-        for (int x = 0; x < w; ++x) {
-            const glm::vec3 c = f(x, y);
-            float* px = img.pixel(x, y);
-            px[0] = c.x, px[1] = c.y, px[2] = c.z;
-        }
-    write_image(p, img);
-}
-
-float texel_at(const Texture& t, int x, int y, int c) {
-    const std::size_t i =
-        (std::size_t(y) * std::size_t(t.width) + std::size_t(x)) * 4 + std::size_t(c);
-    return t.is_float() ? t.texelsf.at(i) : float(t.texels8.at(i)) / 255.0f;
 }
 
 double frac(double x) { return x - std::floor(x); }
@@ -967,32 +951,6 @@ LightSource "infinite" "blackbody L" 5000
 
 namespace {
 
-// README table: scene -> expected triangles ("126,048 (+2 floor)" -> 126,050)
-std::map<std::string, long> readme_counts(const fs::path& readme) {
-    std::ifstream in(readme);
-    std::map<std::string, long> out;
-    std::string line;
-    const std::regex row(R"(^\| \[([a-z0-9-]+)\]\([^)]*\) \| ([0-9,]+)( \(\+([0-9,]+)[^)]*\))?)");
-    auto num = [](std::string s) {
-        s.erase(std::remove(s.begin(), s.end(), ','), s.end());
-        return std::stol(s);
-    };
-    std::smatch m;
-    while (std::getline(in, line))
-        if (std::regex_search(line, m, row))
-            out[m[1]] = num(m[2]) + (m[4].matched ? num(m[4]) : 0);
-    return out;
-}
-
-std::vector<fs::path> shared_pbrt_scenes(const fs::path& root) {
-    std::vector<fs::path> out;
-    for (const auto& e : fs::directory_iterator(root))
-        if (e.is_directory() && fs::exists(e.path() / "scene-v4.pbrt"))
-            out.push_back(e.path() / "scene-v4.pbrt");
-    std::sort(out.begin(), out.end());
-    return out;
-}
-
 }  // namespace
 
 TEST_CASE("pbrt: every shared scene-v4.pbrt loads with the README's triangle count",
@@ -1002,8 +960,8 @@ TEST_CASE("pbrt: every shared scene-v4.pbrt loads with the README's triangle cou
         WARN("SKIP: " << root << " does not exist (the shared test scenes are not checked out)");
         return;
     }
-    const auto counts = readme_counts(root / "README.md");
-    const auto files = shared_pbrt_scenes(root);
+    const auto counts = test::readme_counts(root / "README.md");
+    const auto files = test::shared_scene_files(root, "scene-v4.pbrt");
     REQUIRE(files.size() == 6);  // every scene but the bunny has one
     for (const fs::path& f : files) {
         const std::string name = f.parent_path().filename().string();
@@ -1110,7 +1068,7 @@ TEST_CASE("pbrt: every shared scene-v4.pbrt renders without NaN or Inf",
         WARN("SKIP: " << root << " does not exist (the shared test scenes are not checked out)");
         return;
     }
-    for (const fs::path& f : shared_pbrt_scenes(root)) {
+    for (const fs::path& f : test::shared_scene_files(root, "scene-v4.pbrt")) {
         INFO(f);
         Scene s = load_scene_file(f);
         render::RenderSettings rs;

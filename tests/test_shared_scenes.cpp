@@ -33,23 +33,6 @@ bool have_shared() {
     return fs::is_directory(WP_SHARED_SCENES, ec);
 }
 
-// README table: scene -> expected total triangles ("126,048 (+2 floor)" -> 126,050)
-std::map<std::string, long> readme_counts() {
-    std::ifstream in(fs::path(WP_SHARED_SCENES) / "README.md");
-    std::map<std::string, long> out;
-    std::string line;
-    const std::regex row(R"(^\| \[([a-z0-9-]+)\]\([^)]*\) \| ([0-9,]+)( \(\+([0-9,]+)[^)]*\))?)");
-    auto num = [](std::string s) {
-        s.erase(std::remove(s.begin(), s.end(), ','), s.end());
-        return std::stol(s);
-    };
-    std::smatch m;
-    while (std::getline(in, line))
-        if (std::regex_search(line, m, row))
-            out[m[1]] = num(m[2]) + (m[4].matched ? num(m[4]) : 0);
-    return out;
-}
-
 struct CsvRow {
     std::string ply;
     long triangles = 0;
@@ -124,7 +107,7 @@ TEST_CASE("shared scenes: every OBJ and PLY loads, counts match the README and m
         WARN("SKIP: " WP_SHARED_SCENES " does not exist (the shared public scenes are not here)");
         return;
     }
-    const auto expected = readme_counts();
+    const auto expected = test::readme_counts(fs::path(WP_SHARED_SCENES) / "README.md");
     REQUIRE(expected.size() >= 7);
     double ply_seconds = 0.0;
     std::size_t ply_files = 0;
