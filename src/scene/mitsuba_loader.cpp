@@ -17,6 +17,7 @@
 #include <pugixml.hpp>
 
 #include "scene/load.h"
+#include "scene/notes.h"
 #include "scene/metals.h"
 #include "scene/normals.h"
 #include "scene/procedural.h"
@@ -225,12 +226,7 @@ class Reader {
     Scene scene_;
 
     // Warnings, aggregated by kind: text, first place, count.
-    struct Note {
-        std::string text, where;
-        int count = 0;
-    };
-    std::vector<Note> notes_;
-    std::map<std::string, std::size_t> note_index_;
+    NoteLog notes_;  // warnings, once per kind
 
     // Objects with an id (Mitsuba: one namespace), named BSDFs and textures.
     std::map<std::string, pugi::xml_node> ids_;
@@ -351,9 +347,7 @@ std::string Reader::describe(pugi::xml_node n) {
 }
 
 void Reader::note(const std::string& key, pugi::xml_node n, std::string text) {
-    auto [it, fresh] = note_index_.try_emplace(key, notes_.size());
-    if (fresh) notes_.push_back({std::move(text), where(n), 0});
-    ++notes_[it->second].count;
+    notes_.add(key, where(n), std::move(text));
 }
 
 // One pass over the whole tree before anything is interpreted: every element known, every
@@ -1986,10 +1980,7 @@ Scene Reader::read() {
     }
     scene_.prune_textures();  // the sources of derived roughness and opacity maps, textures of
                               // BSDFs no shape uses
-    for (const Note& nt : notes_)
-        scene_.warnings.push_back(nt.count == 1 ? fmt::format("{}: {}", nt.where, nt.text)
-                                                : fmt::format("{}: {} ({} times; the first here)",
-                                                              nt.where, nt.text, nt.count));
+    notes_.append_to(scene_.warnings);
     validate_scene(scene_);
     return std::move(scene_);
 }

@@ -19,6 +19,7 @@
 #include <glm/gtc/matrix_transform.hpp>
 
 #include "scene/load.h"
+#include "scene/notes.h"
 #include "scene/metals.h"
 #include "scene/tessellate.h"
 #include "scene/texture.h"
@@ -385,12 +386,7 @@ class Reader {
     int includes_ = 0;
 
     // Warnings, aggregated by kind
-    struct Note {
-        std::string text, where;
-        int count = 0;
-    };
-    std::vector<Note> notes_;
-    std::map<std::string, std::size_t> note_index_;
+    NoteLog notes_;  // warnings, once per kind
 
     // Graphics state
     GState gs_;
@@ -434,9 +430,7 @@ class Reader {
         fail("{}: {}", where(l), fmt::format(f, std::forward<Args>(args)...));
     }
     void note(const std::string& key, const Loc& l, std::string text) {
-        auto [it, fresh] = note_index_.try_emplace(key, notes_.size());
-        if (fresh) notes_.push_back({std::move(text), where(l), 0});
-        ++notes_[it->second].count;
+        notes_.add(key, where(l), std::move(text));
     }
     static std::string key_of(const fs::path& p) {
         std::error_code ec;
@@ -2510,10 +2504,7 @@ Scene Reader::read() {
     for (const Material& m : scene_.materials) textured = textured || m.textured() || m.anisotropic();
     if (!textured) scene_.uvs.clear();
     scene_.prune_textures();
-    for (const Note& nt : notes_)
-        scene_.warnings.push_back(nt.count == 1 ? fmt::format("{}: {}", nt.where, nt.text)
-                                                : fmt::format("{}: {} ({} times; the first here)",
-                                                              nt.where, nt.text, nt.count));
+    notes_.append_to(scene_.warnings);
     validate_scene(scene_);
     return std::move(scene_);
 }
