@@ -144,4 +144,23 @@ float texel_at(const Texture& t, int x, int y, int c) {
     return t.is_float() ? t.texelsf.at(i) : float(t.texels8.at(i)) / 255.0f;
 }
 
+
+std::string base64(const std::string& in) {
+    static const char* t = "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
+    std::string out;
+    std::size_t i = 0;
+    for (; i + 2 < in.size(); i += 3) {
+        std::uint32_t v = (std::uint8_t(in[i]) << 16) | (std::uint8_t(in[i + 1]) << 8) | std::uint8_t(in[i + 2]);
+        for (int k = 3; k >= 0; --k) out.push_back(t[(v >> (6 * k)) & 63]);
+    }
+    if (i + 1 == in.size()) {
+        std::uint32_t v = std::uint8_t(in[i]) << 16;
+        out += {t[(v >> 18) & 63], t[(v >> 12) & 63], '=', '='};
+    } else if (i + 2 == in.size()) {
+        std::uint32_t v = (std::uint8_t(in[i]) << 16) | (std::uint8_t(in[i + 1]) << 8);
+        out += {t[(v >> 18) & 63], t[(v >> 12) & 63], t[(v >> 6) & 63], '='};
+    }
+    return out;
+}
+
 }  // namespace wp::test

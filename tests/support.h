@@ -59,6 +59,14 @@ std::map<std::string, long> readme_counts(const std::filesystem::path& readme);
 std::vector<std::filesystem::path> shared_scene_files(const std::filesystem::path& root,
                                                       const std::string& file);
 
+// Standard base64 with padding (RFC 4648), for data URIs in glTF tests.
+std::string base64(const std::string& in);
+// Appends the bytes of v to s (binary buffers of glTF tests).
+template <typename T>
+void put(std::string& s, T v) {
+    s.append(reinterpret_cast<const char*>(&v), sizeof(T));
+}
+
 // Channel c of texel (x, y) of a texture as stored (8-bit values / 255, not decoded).
 float texel_at(const Texture& t, int x, int y, int c);
 

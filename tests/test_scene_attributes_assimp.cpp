@@ -16,6 +16,7 @@
 
 #include "scene/assimp_loader.h"
 #include "scene/load.h"
+#include "support.h"
 #include "temp_dir.h"
 
 namespace fs = std::filesystem;
@@ -37,10 +38,7 @@ std::string header(const char* format, const char* u = "u", const char* v = "v")
                        format, u, v);
 }
 
-template <typename T>
-void put(std::string& s, T v) {
-    s.append(reinterpret_cast<const char*>(&v), sizeof(T));
-}
+using wp::test::put;
 
 // Binary little-endian; x of vertex 0 replaced by `x0`.
 std::string binary_square(float x0) {

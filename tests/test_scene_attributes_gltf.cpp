@@ -20,6 +20,7 @@
 #include "scene/gltf_loader.h"
 #include "scene/texture.h"
 #include "util/error.h"
+#include "support.h"
 #include "temp_dir.h"
 
 namespace fs = std::filesystem;
@@ -29,28 +30,8 @@ using wp::test::TempDir;
 
 namespace {
 
-std::string base64(const std::string& in) {
-    static const char* t = "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
-    std::string out;
-    std::size_t i = 0;
-    for (; i + 2 < in.size(); i += 3) {
-        std::uint32_t v = (std::uint8_t(in[i]) << 16) | (std::uint8_t(in[i + 1]) << 8) | std::uint8_t(in[i + 2]);
-        for (int k = 3; k >= 0; --k) out.push_back(t[(v >> (6 * k)) & 63]);
-    }
-    if (i + 1 == in.size()) {
-        std::uint32_t v = std::uint8_t(in[i]) << 16;
-        out += {t[(v >> 18) & 63], t[(v >> 12) & 63], '=', '='};
-    } else if (i + 2 == in.size()) {
-        std::uint32_t v = (std::uint8_t(in[i]) << 16) | (std::uint8_t(in[i + 1]) << 8);
-        out += {t[(v >> 18) & 63], t[(v >> 12) & 63], t[(v >> 6) & 63], '='};
-    }
-    return out;
-}
-
-template <typename T>
-void put(std::string& s, T v) {
-    s.append(reinterpret_cast<const char*>(&v), sizeof(T));
-}
+using wp::test::base64;
+using wp::test::put;
 
 // A small glTF: one buffer, one view per accessor or image; one mesh of primitives under
 // root nodes; materials, textures, images, samplers as given.
