@@ -6,9 +6,11 @@
 
 namespace wp::render {
 
-ProfileSummary summarize_profile(const ocl::Profiler& profiler, std::uint64_t rays) {
+ProfileSummary summarize_profile(const ocl::Profiler& profiler, std::uint64_t rays,
+                                 std::uint64_t shadow_rays) {
     ProfileSummary p;
     p.rays = rays;
+    p.shadow_rays = shadow_rays;
     p.spp = profiler.passes();
     p.wave_count = profiler.wave_count();
     p.waves = profiler.waves();
@@ -57,6 +59,9 @@ nlohmann::json profile_json(const ProfileSummary& p) {
     j["kernel_ms"] = p.kernel_ms;
     j["median_ms_per_spp"] = p.median_ms_per_spp;
     j["rays"] = p.rays;
+    j["rays_closest"] = p.rays - p.shadow_rays;  // intersect.closest
+    j["rays_shadow"] = p.shadow_rays;            // shadow
+    j["rays_per_spp"] = p.spp > 0.0 ? double(p.rays) / p.spp : 0.0;
     j["mrays_per_s"] = p.mrays_per_s;
     auto& w = j["wave_ms"] = nlohmann::json::array();
     for (const auto& r : p.waves)

@@ -37,10 +37,13 @@ struct ProfileSummary {
     double kernel_ms = 0.0;               // sum of all launch times
     double median_ms_per_spp = 0.0;       // median over waves of span / passes
     std::uint64_t rays = 0;               // rays traced (closest hit and shadow)
+    std::uint64_t shadow_rays = 0;        // of them, shadow rays (shadow_trace)
     double mrays_per_s = 0.0;             // rays / sum of wave spans
 };
 
-ProfileSummary summarize_profile(const ocl::Profiler& profiler, std::uint64_t rays);
+// rays: all rays traced; shadow_rays: how many of them were shadow rays.
+ProfileSummary summarize_profile(const ocl::Profiler& profiler, std::uint64_t rays,
+                                 std::uint64_t shadow_rays = 0);
 
 // The table, ending in a newline.
 std::string format_profile_table(const ProfileSummary& p);
