@@ -15,6 +15,7 @@
 #include "cl/kernel.h"
 #include "cl/memory.h"
 #include "image/image.h"
+#include "render/profile.h"
 #include "render/wavefront.h"
 #include "scene/builtin.h"
 #include "support.h"
@@ -196,6 +197,28 @@ TEST_CASE("memory: a render's buffers are the struct sizes times the counts", "[
         CHECK(j["groups"]["pool"].get<std::uint64_t>() == m.group("pool"));
         CHECK(j["bytes_per_path"].get<std::size_t>() == per_path);
     }
+}
+
+TEST_CASE("profile: ms per spp is the median over whole passes, however many waves a pass takes", "[unit]") {
+    auto wave = [](double passes, double span) {
+        ocl::WaveRecord w;
+        w.passes = passes;
+        w.span_ms = span;
+        return w;
+    };
+    // An image three times the pool: each pass is three waves over the top, middle and
+    // bottom of the image, the bottom dearer. Each pass costs 10 + 10 + 40 = 60 ms; the
+    // median of the waves' own rates (30, 30, 120 ms per spp) would say 30.
+    std::vector<ocl::WaveRecord> w;
+    for (double bottom : {40.0, 40.0, 46.0})
+        for (double span : {10.0, 10.0, bottom}) w.push_back(wave(1.0 / 3.0, span));
+    CHECK(render::median_ms_per_pass(w, false) == Approx(60.0));
+    // Waves of whole passes are their own groups: 2 passes in 100 ms, 1 in 40, 1 in 70.
+    std::vector<ocl::WaveRecord> whole = {wave(2, 100), wave(1, 40), wave(1, 70)};
+    CHECK(render::median_ms_per_pass(whole, false) == Approx(50.0));
+    // Thinned records no longer join into passes: each wave counts alone.
+    CHECK(render::median_ms_per_pass(w, true) == Approx(30.0));
+    CHECK(render::median_ms_per_pass({}, false) == 0.0);
 }
 
 #ifdef WP_CLI_PATH
