@@ -43,9 +43,9 @@ FilmBuffers::FilmBuffers(const ocl::Device& dev, std::size_t pixels, bool with_v
                                fmt::format("the film ({} pixels)", pixels));
     std::size_t seg = segment_pixels > 0 ? segment_pixels : dev.info.max_alloc / sizeof(FilmPixel);
     seg = std::max<std::size_t>(seg, 1);
-    // Each segment must fit one buffer. The whole film is not checked against the device's
-    // reported global memory: PoCL reports a third of the host's memory (7.5 GiB of 24) but
-    // allocates from all of it, and a 16384^2 film (8 GiB) renders there.
+    // Each segment must fit one buffer. (The whole film is held to the ledger's capacity,
+    // which for a CPU device sharing the host's memory is that memory, not the smaller
+    // figure PoCL reports: a 16384^2 film of 8 GiB renders there; cl/memory.h.)
     dev.check_alloc(std::min(seg, pixels) * sizeof(FilmPixel), "a film segment");
     for (std::size_t first = 0; first < pixels; first += seg) {
         FilmSegment s;
