@@ -22,6 +22,10 @@ void validate(const RenderSettings& s) {
 
 namespace {
 
+// Room an automatic pool leaves, beyond the film, for the counters, ray totals and queue
+// lengths (a few dozen bytes) and the shadow queue's placeholders.
+constexpr std::size_t kSmallBuffersBytes = std::size_t(64) << 10;
+
 KernelConfig make_config(const Scene& scene, const RenderSettings& s) {
     KernelConfig c = KernelConfig::from_scene(scene, s.estimator);
     c.inject_nan = s.inject_nan;
@@ -38,8 +42,8 @@ Wavefront::Wavefront(ocl::Device& dev, const Scene& scene, const RenderSettings&
     // Scene, pool, film: each buffer is checked against the device before it is created
     // (cl/memory.h), so a render that does not fit fails here, before any kernel runs.
     const auto pixels = static_cast<std::size_t>(pixel_count());
-    // An automatic pool leaves room for the film (and the few small buffers after it).
-    const std::size_t reserve = film_bytes() + (std::size_t(64) << 10);
+    // An automatic pool leaves room for the film and the few small buffers after it.
+    const std::size_t reserve = film_bytes() + kSmallBuffersBytes;
     pool_ = PathPool(dev, render::pool_capacity(dev, pixels, settings.pool, config_.nee(), reserve),
                      config_.nee());
     film_ = FilmBuffers(dev, pixels, settings.variance, settings.film_segment);
