@@ -26,8 +26,10 @@ Setting (docs/performance.md, "Against other renderers"):
     render loop, not process start, scene load or program build); Mitsuba: the time around
     mi.render and the read-back of the image; Cycles: its log's "Render time (without
     synchronization)". Each renderer first renders one untimed warm-up image per scene;
-  * order: for each seed, for each spp of the ladder, every renderer in turn (the order
-    rotates), so that a change in the machine's load spreads over all renderers;
+  * order: for each seed, for each spp of the ladder (powers of 2: 4..512 for the Cornell
+    box, 4..1024 veach-mis, 8..2048 the built-in box, each bracketing wavepath's 1e-3; or
+    --spp), every renderer in turn (the order rotates), so that a change in the machine's
+    load spreads over all renderers;
   * time to relMSE E: per seed, linear interpolation of log(relMSE) against log(time) between
     the two ladder levels around E (the first level at or below E); outside the ladder,
     relMSE proportional to 1/time from the nearest level, marked "~". The table gives
@@ -42,7 +44,7 @@ build or CI depends on them (scripts/peers/setup.sh installs them).
 Mitsuba: a Python that imports mitsuba (--mitsuba-python, else $WP_MITSUBA_PYTHON, else
 build/peers/venv/bin/python, else this Python). Its LLVM variant needs libLLVM >= 16
 (Debian: libllvm19); found on the usual paths or taken from $DRJIT_LIBLLVM_PATH — LLVM 15
-aborts. Cycles: `blender` (--blender) with numpy-free Python; Debian's blender 3.4.1.
+aborts. Cycles: `blender` (--blender, else $WP_BLENDER, else on PATH); Debian's 3.4.1.
 
 Writes OUT/<scene>/ (images while measuring, the reference cache, scene files for the peers),
 OUT/results.json (every measurement) and OUT/report.md (the tables, also printed).
@@ -142,6 +144,11 @@ class WorkerError(Exception):
     pass
 
 
+def first_line(e):
+    lines = str(e).strip().splitlines()
+    return lines[0] if lines else type(e).__name__
+
+
 class Worker:
     """A peer process speaking the JSON-lines protocol of mitsuba_worker.py / cycles_worker.py."""
 
@@ -157,7 +164,9 @@ class Worker:
             line = self.proc.stdout.readline()
             if not line:
                 code = self.proc.wait()
-                raise WorkerError(f"{self.name} exited (status {code}); see {self.log.name}")
+                hint = (" (Dr.Jit aborts with LLVM 15: point DRJIT_LIBLLVM_PATH at libLLVM >= 16)"
+                        if self.name == "mitsuba-llvm" and code == -6 else "")
+                raise WorkerError(f"{self.name} exited (status {code}){hint}; see {self.log.name}")
             if line.startswith(MARK):
                 return json.loads(line[len(MARK):])
             self.log.write(line.encode(errors="replace"))
@@ -358,6 +367,30 @@ def rgb_of(el, name):
     return v * 3 if len(v) == 1 else v
 
 
+def cycles_materials_from_xml(xml_path, mtl_path):
+    """Cycles materials for the OBJ's `usemtl` names: emission from the MTL's Ke, the rest
+    from the XML's BSDF "<name>BSDF" (diffuse, Beckmann roughconductor)."""
+    bsdfs = xml_bsdfs(xml_path)
+    mats = {}
+    for name, m in read_mtl(mtl_path).items():
+        b = bsdfs.get(name + "BSDF")
+        if any(m.get("Ke", [0])):
+            mats[name] = {"type": "emitter", "radiance": m["Ke"]}
+        elif b is not None and b.get("type") == "diffuse":
+            mats[name] = {"type": "diffuse", "color": rgb_of(b, "reflectance")}
+        elif b is not None and b.get("type") == "roughconductor":
+            dist = b.find("string[@name='distribution']")
+            if dist is None or dist.get("value") != "beckmann":
+                raise ValueError(f"{xml_path}: {name}: only Beckmann conductors are mapped")
+            mats[name] = {"type": "beckmann_conductor",
+                          "alpha": float(b.find("float[@name='alpha']").get("value")),
+                          "eta": rgb_of(b, "eta"), "k": rgb_of(b, "k"),
+                          "scale": rgb_of(b, "specular_reflectance") or [1.0] * 3}
+        else:
+            raise ValueError(f"{xml_path}: no Cycles mapping for material {name}")
+    return mats
+
+
 def write_mitsuba_xml(src, dst, width, height, depth):
     """src with the film at width x height, a box rfilter and max_depth = depth + 1."""
     tree = ET.parse(src)
@@ -396,6 +429,8 @@ def setup_scene(key, args, work):
     if key == "cornell-box":
         d = os.path.join(args.scenes_dir, "cornell-box")
         s.xml = os.path.join(d, "scene_v3.xml")
+        if not os.path.exists(s.xml):
+            raise FileNotFoundError(f"{s.xml} not found (--scenes-dir {args.scenes_dir})")
         s.wavepath_arg = s.xml
         s.ref_path = os.path.join(d, "reference", "Mitsuba3Render.exr")
         mats = {}
@@ -410,27 +445,14 @@ def setup_scene(key, args, work):
     elif key == "veach-mis":
         d = os.path.join(args.scenes_dir, "veach-mis")
         s.xml = os.path.join(d, "scene_v3.xml")
+        if not os.path.exists(s.xml):
+            raise FileNotFoundError(f"{s.xml} not found (--scenes-dir {args.scenes_dir})")
         s.wavepath_arg = s.xml
-        bsdfs = xml_bsdfs(s.xml)
-        mats = {}
-        for name, m in read_mtl(os.path.join(d, "veach-mis.mtl")).items():
-            b = bsdfs.get(name + "BSDF")
-            if any(m.get("Ke", [0])):
-                mats[name] = {"type": "emitter", "radiance": m["Ke"]}
-            elif b is not None and b.get("type") == "diffuse":
-                mats[name] = {"type": "diffuse", "color": rgb_of(b, "reflectance")}
-            elif b is not None and b.get("type") == "roughconductor":
-                dist = b.find("string[@name='distribution']")
-                if dist is None or dist.get("value") != "beckmann":
-                    raise ValueError(f"{s.xml}: {name}: only Beckmann conductors are mapped")
-                mats[name] = {"type": "beckmann_conductor",
-                              "alpha": float(b.find("float[@name='alpha']").get("value")),
-                              "eta": rgb_of(b, "eta"), "k": rgb_of(b, "k"),
-                              "scale": rgb_of(b, "specular_reflectance") or [1.0] * 3}
-            else:
-                raise ValueError(f"{s.xml}: no Cycles mapping for material {name}")
-        cyc = {"obj": os.path.join(d, "veach-mis.obj"), "materials": mats,
-               "camera": xml_camera(s.xml)}
+        try:
+            cyc = {"obj": os.path.join(d, "veach-mis.obj"), "camera": xml_camera(s.xml),
+                   "materials": cycles_materials_from_xml(s.xml, os.path.join(d, "veach-mis.mtl"))}
+        except (ValueError, OSError) as e:
+            s.cycles_skip = f"no Cycles version of this scene: {e}"
         s.title = "Veach's MIS scene (veach-mis/scene_v3.xml), direct light"
     elif key == "builtin":
         desc = export_builtin.export(os.path.join(work, "export"), s.width, s.height, s.depth)
@@ -441,8 +463,6 @@ def setup_scene(key, args, work):
         s.title = "wavepath's built-in box (builtin:cornell-box)"
     else:
         raise ValueError(f"unknown scene {key!r} (known: {', '.join(SCENES)})")
-    if not os.path.exists(s.xml):
-        raise FileNotFoundError(f"{s.xml} not found (--scenes-dir {args.scenes_dir})")
     s.mitsuba_xml = os.path.join(work, "mitsuba.xml")
     write_mitsuba_xml(s.xml, s.mitsuba_xml, s.width, s.height, s.depth)
     if cyc is not None:
@@ -498,23 +518,34 @@ def make_reference(scene, peers, wp, args, work, keep):
         return ref, note, None
     order = {"auto": ["mitsuba-llvm", "mitsuba-scalar", "wavepath"]}.get(
         args.ref_renderer, [args.ref_renderer])
-    chosen = next((n for n in order if n in peers or n == "wavepath"), None)
-    key = {"renderer": chosen, "chunk": args.ref_chunk, "target": args.ref_target,
-           "max_spp": args.ref_max_spp, "size": [scene.width, scene.height],
-           "depth": scene.depth, "files": file_digest([scene.mitsuba_xml])}
+    cands = [n for n in order if n in peers or n == "wavepath"]
+    key = {"chunk": args.ref_chunk, "target": args.ref_target, "max_spp": args.ref_max_spp,
+           "size": [scene.width, scene.height], "depth": scene.depth,
+           "files": file_digest([scene.mitsuba_xml])}
     cache_img, cache_meta = os.path.join(work, "reference.npy"), os.path.join(work, "reference.json")
     if os.path.exists(cache_img) and os.path.exists(cache_meta):
         with open(cache_meta) as f:
             meta = json.load(f)
-        if meta.get("key") == key:
+        cached = dict(meta.get("key", {}))
+        if cached.pop("renderer", None) in cands and cached == key:
             log(f"  reference: cached {cache_img}")
             return np.load(cache_img), meta["note"], meta.get("own_relmse")
-    if chosen == "wavepath":
+    for chosen in cands:
+        try:
+            return render_reference(scene, peers[chosen] if chosen != "wavepath" else wp,
+                                    args, work, keep, key | {"renderer": chosen},
+                                    cache_img, cache_meta)
+        except WorkerError as e:
+            if chosen == "wavepath":
+                raise
+            log(f"  reference: {chosen} failed ({first_line(e)}); trying the next")
+    raise WorkerError("no renderer could render the reference")
+
+
+def render_reference(scene, r, args, work, keep, key, cache_img, cache_meta):
+    if r.name == "wavepath":
         log("  WARNING: no Mitsuba to render the reference: wavepath renders its own (other "
             "seeds). Its error then shows only wavepath's variance, not a bias.")
-        r = wp
-    else:
-        r = peers[chosen]
     r.load(scene, work)
     log(f"  reference: {r.describe()}, chunks of {args.ref_chunk} spp until its own relMSE "
         f"<= {args.ref_target:g} or {args.ref_max_spp} spp ...")
@@ -537,6 +568,10 @@ def make_reference(scene, peers, wp, args, work, keep):
     note = (f"rendered here by {r.describe()}, {n * args.ref_chunk} spp ({n} chunks of "
             f"{args.ref_chunk}, {time.time() - t0:.0f} s); its own relMSE from the chunks' "
             f"spread: {own:.1e}")
+    if r.name == "wavepath":
+        note += (" — WARNING: no Mitsuba ran, so wavepath's own image is the reference: the "
+                 "errors show wavepath's variance, not a bias, and the peers' bias counts "
+                 "against them")
     if own > args.ref_target:
         note += f" (above --ref-target {args.ref_target:g}: --ref-max-spp stopped it)"
     np.save(cache_img, mean)
@@ -762,11 +797,11 @@ def main():
                                       f"blender; or --blender)")
                 peers[name] = CyclesPeer(args.blender, args.threads, env, log_path)
         except WorkerError as e:
-            skipped[name] = str(e).strip().splitlines()[0]
+            skipped[name] = first_line(e)
             log(f"skipping {name}: {skipped[name]}")
     renderers = ["wavepath"] + [r for r in RENDERERS if r in peers]
     all_results, report = [], []
-    report += [f"# Time to error: wavepath against peer renderers", "",
+    report += ["# Time to error: wavepath against peer renderers", "",
                f"{datetime.datetime.now().isoformat(timespec='seconds')}, {platform.node()}, "
                f"{os.cpu_count()} CPUs; {load_before} at the start.",
                f"Seeds {seeds[0]}..{seeds[-1]}; relMSE with eps {EPS:g}, light-edge pixels masked. Peers with {args.threads} "
@@ -781,7 +816,12 @@ def main():
             work = os.path.join(args.out, key)
             ladder = fixed_ladder or DEFAULT_LADDER[key]
             os.makedirs(work, exist_ok=True)
-            scene = setup_scene(key, args, work)
+            try:
+                scene = setup_scene(key, args, work)
+            except FileNotFoundError as e:
+                log(f"{key}: skipped: {e}")
+                report += [f"## {key}", "", f"Skipped: {e}.", ""]
+                continue
             log(f"{key}: {scene.width}x{scene.height}, depth {scene.depth}")
             keep, wp_tris = light_mask(scene, wp, work)
             notes = []
@@ -797,15 +837,22 @@ def main():
                     p.load(scene, work)
                     usable[name] = p
                 except WorkerError as e:
-                    msg = str(e).strip().splitlines()[0]
-                    notes.append(f"{name} skipped for this scene: {msg}")
+                    notes.append(f"{name} skipped for this scene: {first_line(e)}")
                     log(notes[-1])
             ref, ref_note, _ = make_reference(scene, usable, wp, args, work, keep)
             wp.load(scene, work)
             order = ["wavepath"] + [r for r in renderers if r in usable]
             objs = {"wavepath": wp, **usable}
-            for name in order:  # warm-up, untimed
-                objs[name].render(ladder[0], 999, os.path.join(work, f"warm-{name}"))
+            for name in list(order):  # warm-up, untimed
+                try:
+                    objs[name].render(ladder[0], 999, os.path.join(work, f"warm-{name}"))
+                except WorkerError as e:
+                    if name == "wavepath":
+                        raise
+                    notes.append(f"{name} skipped: {first_line(e)}")
+                    log(notes[-1])
+                    order.remove(name)
+                    usable.pop(name)
             results = []
             k = 0
             for seed in seeds:
@@ -817,8 +864,9 @@ def main():
                             img, t, _ = objs[name].render(spp, seed,
                                                           os.path.join(work, f"{name}-{seed}-{spp}"))
                         except WorkerError as e:
-                            msg = str(e).strip().splitlines()[0]
-                            notes.append(f"{name} failed and was dropped: {msg}")
+                            if name == "wavepath":
+                                raise
+                            notes.append(f"{name} failed and was dropped: {first_line(e)}")
                             log(notes[-1])
                             order.remove(name)
                             continue
