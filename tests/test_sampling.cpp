@@ -493,6 +493,16 @@ TEST_CASE("sampling: Sobol points match the direction numbers' recurrence", "[un
         CHECK(got.y == want[1]);
         CHECK(got.z == want[2]);
         CHECK(got.w == want[3]);
+        // The folded Owen scramble equals Burley's listing 3 written out: shuffle the index,
+        // then scramble each coordinate, each scramble = reverse(LK(reverse(x))).
+        uint seed = state ^ 0x9e3779b9u;
+        uint i = wp_nested_uniform_scramble(index, seed);
+        uint4 x = wp_sobol4(i);
+        uint4 o = wp_sobol_owen4(index, seed);
+        CHECK(o.x == wp_nested_uniform_scramble(x.x, wp_hash_combine(seed, 0u)));
+        CHECK(o.y == wp_nested_uniform_scramble(x.y, wp_hash_combine(seed, 1u)));
+        CHECK(o.z == wp_nested_uniform_scramble(x.z, wp_hash_combine(seed, 2u)));
+        CHECK(o.w == wp_nested_uniform_scramble(x.w, wp_hash_combine(seed, 3u)));
     }
 }
 
