@@ -455,6 +455,27 @@ TEST_CASE("sampling: Owen-scrambled Sobol points are stratified", "[unit][sampli
     CHECK(wp_sobol_owen4(5u, 1u).x != wp_sobol_owen4(5u, 2u).x);
 }
 
+// wp_sincos_2pi against sin/cos in double: every u = k / 2^20 of [0, 1] and the quarter
+// turns exactly.
+TEST_CASE("sampling: sincos of 2 pi u is within 2 ulp-scale error of double", "[unit][sampling]") {
+    double worst = 0.0;
+    const int n = 1 << 20;
+    for (int k = 0; k <= n; ++k) {
+        float u = float(k) / float(n), s, c;
+        wp_sincos_2pi(u, &s, &c);
+        double phi = 2.0 * 3.14159265358979323846 * double(u);
+        worst = std::max({worst, std::abs(double(s) - std::sin(phi)), std::abs(double(c) - std::cos(phi))});
+    }
+    CHECK(worst < 2.4e-7);  // 2 ulp of 1 is 2.4e-7
+    const float quarter[5][2] = {{0.0f, 1.0f}, {1.0f, 0.0f}, {0.0f, -1.0f}, {-1.0f, 0.0f}, {0.0f, 1.0f}};
+    for (int q = 0; q <= 4; ++q) {
+        float s, c;
+        wp_sincos_2pi(0.25f * float(q), &s, &c);
+        CHECK(std::abs(s - quarter[q][0]) == 0.0f);
+        CHECK(c == quarter[q][1]);
+    }
+}
+
 // The unscrambled points against direction numbers built here from their definition (Joe &
 // Kuo 2008: primitive polynomial x^s + a_1 x^(s-1) + ... + 1 with initial m_1..m_s,
 // m_j = 2a_1 m_(j-1) ^ 4a_2 m_(j-2) ^ ... ^ 2^s m_(j-s) ^ m_(j-s); v_j = m_j 2^(32-j)), and

@@ -48,11 +48,32 @@ WP_FN float3 wp_to_world(float3 lv, float3 n) {
     return t * lv.x + b * lv.y + n * lv.z;
 }
 
+// sin(2π u) and cos(2π u) for u in [0, 1]. The octant reduction is exact in float
+// (t = 4u, f = t − nearest integer q, |f| ≤ 1/2), so only x = f π/2 ∈ [−π/4, π/4] is
+// rounded, and Cephes' sinf/cosf polynomials on that interval give about 1 ulp; then the
+// quadrant q picks the signs. The same bits on every device and the host (no library
+// call, no argument reduction of a general sin/cos: PoCL's costs a call per sample).
+WP_FN void wp_sincos_2pi(float u, float* s, float* c) {
+    float t = 4.0f * u;
+    int q = (int)(t + 0.5f);
+    float x = (t - (float)q) * (0.5f * WP_PI);
+    float z = x * x;
+    float sx = x + x * z * (-1.6666654611e-1f + z * (8.3321608736e-3f + z * -1.9515295891e-4f));
+    float cx = 1.0f - 0.5f * z + z * z * (4.166664568298827e-2f + z * (-1.388731625493765e-3f + z * 2.443315711809948e-5f));
+    switch (q & 3) {
+        case 0: *s = sx, *c = cx; break;
+        case 1: *s = cx, *c = -sx; break;
+        case 2: *s = -sx, *c = -cx; break;
+        default: *s = -cx, *c = sx; break;
+    }
+}
+
 // Unit direction with polar cosine cos_theta and azimuth 2π u around +z.
 WP_FN float3 wp_spherical_local(float cos_theta, float u) {
     float sin_theta = sqrt(max(0.0f, 1.0f - cos_theta * cos_theta));
-    float phi = 2.0f * WP_PI * u;
-    return make_float3(sin_theta * cos(phi), sin_theta * sin(phi), cos_theta);
+    float sp, cp;
+    wp_sincos_2pi(u, &sp, &cp);
+    return make_float3(sin_theta * cp, sin_theta * sp, cos_theta);
 }
 
 // Uniform over the hemisphere z > 0: density 1 / (2π) per steradian.
@@ -75,8 +96,9 @@ WP_FN float wp_phong_lobe_pdf(float cos_alpha, float exponent) {
 // projected up): density cos θ / π per steradian. 1 - u1 in (0, 1]: never exactly grazing.
 WP_FN float3 wp_sample_cosine_hemisphere(float u1, float u2) {
     float r = sqrt(u1);
-    float phi = 2.0f * WP_PI * u2;
-    return make_float3(r * cos(phi), r * sin(phi), sqrt(1.0f - u1));
+    float sp, cp;
+    wp_sincos_2pi(u2, &sp, &cp);
+    return make_float3(r * cp, r * sp, sqrt(1.0f - u1));
 }
 WP_FN float wp_cosine_hemisphere_pdf(float cos_theta) {
     return cos_theta > 0.0f ? cos_theta * WP_INV_PI : 0.0f;
@@ -140,9 +162,10 @@ WP_FN float3 wp_vndf_hemisphere(float3 vh, float u1, float u2) {
     float3 t2 = cross(vh, t1);
     // Uniform point on the disk, warped towards the visible half.
     float r = sqrt(u1);
-    float phi = 2.0f * WP_PI * u2;
-    float p1 = r * cos(phi);
-    float p2 = r * sin(phi);
+    float sp, cp;
+    wp_sincos_2pi(u2, &sp, &cp);
+    float p1 = r * cp;
+    float p2 = r * sp;
     float s = 0.5f * (1.0f + vh.z);
     p2 = (1.0f - s) * sqrt(max(0.0f, 1.0f - p1 * p1)) + s * p2;
     // Project onto the hemisphere.
