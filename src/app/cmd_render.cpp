@@ -20,16 +20,19 @@
 #include "app/render_options.h"
 #include "app/subcommands.h"
 #include "cl/device.h"
+#include "cl/program.h"
 #include "image/image.h"
 #include "image/stats.h"
 #include "render/loop.h"
 #include "render/profile.h"
 #include "render/progress.h"
 #include "render/reference.h"
+#include "render/startup.h"
 #include "render/wavefront.h"
 #include "util/atomic_file.h"
 #include "util/error.h"
 #include "util/host_trace.h"
+#include "util/process_clock.h"
 #include "util/timer.h"
 
 namespace wp::app {
@@ -122,10 +125,13 @@ int run_render(const RenderArgs& a) {
     }
 
     // 3. Scene and device.
+    render::Startup startup;  // the cold-start split (render/startup.h)
+    Timer step;
     Scene scene = [&] {
         HostSpan span("load");
         return load_scene(a.scene, a.quiet, &a.edits);
     }();
+    startup.load_ms = step.ms();
     render::RenderSettings s = make_settings(a.config, scene);
     // The scene file's spp and seed, unless given on the command line.
     const int spp = a.spp_given || !scene.render.spp ? a.spp : *scene.render.spp;
@@ -138,11 +144,19 @@ int run_render(const RenderArgs& a) {
     // A reference of the wrong size is an error before any rendering.
     std::optional<render::Reference> ref;
     if (!a.reference.empty()) ref = render::load_reference(a.reference, s.width, s.height);
+    // New programs' cache stores wait until after the render (cl/program.h): a cold start
+    // reaches its first frame without them.
+    ocl::defer_cache_stores(true);
+    step.reset();
     ocl::Device dev = [&] {
         HostSpan span("device");  // the OpenCL platform and device (PoCL's start-up)
         return ocl::Device::open(a.config.device);
     }();
+    startup.device_ms = step.ms();
     render::Wavefront wf(dev, scene, s);
+    startup.scene_ms = wf.stats().upload_ms;
+    startup.programs_ms = wf.stats().program_ms;
+    startup.programs = wf.program_builds();
     if (!a.quiet) {
         for (const auto& w : wf.scene_warnings()) fmt::print(stderr, "wavepath: warning: {}\n", w);
         std::string app = render::describe_appearance(wf.stats());
@@ -179,6 +193,11 @@ int run_render(const RenderArgs& a) {
         };
     }
     render::LoopResult res = render::render_frames(wf, lo, &progress);
+    startup.first_frame_ms = res.first_frame_ms;
+    startup.first_frame_device_ms = res.first_frame_kernel_ms;
+    startup.first_launch_ms = res.first_frame_ms - res.first_frame_kernel_ms;
+    startup.to_first_frame_ms = double(res.first_frame_done_ns - main_start_ns()) * 1e-6;
+    startup.exec_to_main_ms = exec_to_main_ms();
     std::uint64_t rays = wf.rays_traced();
     progress.finish(res.frames, rays, res.interrupted);
 
@@ -205,6 +224,9 @@ int run_render(const RenderArgs& a) {
     }
     std::optional<ErrorMetrics> err;
     if (ref) err = compare_images(img, ref->image);
+
+    // The deferred program cache stores (a cold start only).
+    startup.cache_store_ms = ocl::store_deferred_programs();
 
     // 6. Report.
     auto counters = wf.counters();
@@ -235,6 +257,7 @@ int run_render(const RenderArgs& a) {
                        err->max_y);
         if (a.stats) fmt::print("{}", render::format_profile_table(prof));
     }
+    if (a.verbose) fmt::print(stderr, "{}", render::format_startup(startup));
     if (err) {
         std::string w = render::reference_warning(*ref, err->relmse);
         if (!w.empty() && !a.quiet) fmt::print(stderr, "wavepath: warning: {}\n", w);
@@ -253,6 +276,7 @@ int run_render(const RenderArgs& a) {
         j["settings"] = {{"width", s.width}, {"height", s.height}, {"spp_requested", spp},
                          {"spp", res.frames}, {"depth", s.depth}, {"seed", s.seed},
                          {"traversal", render::traversal_name(s.traversal)},
+                         {"kernels", render::kernel_set_name(s.kernels)},
                          {"sampling", render::sampling_name(s.estimator.sampling)},
                          {"glossy", render::glossy_name(s.estimator.glossy)},
                          {"rr_depth", s.estimator.rr_depth},
@@ -268,6 +292,7 @@ int run_render(const RenderArgs& a) {
                           {"max_abs", err->max_abs}, {"max_x", err->max_x},
                           {"max_y", err->max_y}, {"reference_own_relmse", ref->own_relmse}};
         j["kernel_options"] = wf.options();
+        j["startup"] = render::startup_json(startup);
         j["nonfinite"] = {{"generate", counters[WP_COUNTER_GENERATE_NONFINITE]},
                           {"shade", counters[WP_COUNTER_SHADE_NONFINITE]},
                           {"accumulate", counters[WP_COUNTER_ACCUMULATE_NONFINITE]}};
@@ -315,7 +340,7 @@ Subcommand add_render(CLI::App& app) {
                   ".png/.jpg (8-bit sRGB). Default: render.exr and render.png");
     c->add_option("--profile", args->profile,
                   "Write the kernel profile (device, scene statistics, per-stage, per-spp and per-wave "
-                  "times) as JSON to this file, and a Chrome trace-event file (Perfetto) next to "
+                  "times, the start-up split as in -v) as JSON to this file, and a Chrome trace-event file (Perfetto) next to "
                   "it: FILE.json -> FILE.trace.json");
     c->add_flag("--variance", args->variance,
                 "Also keep the per-pixel sum of squares and write the variance of the mean, "
@@ -344,7 +369,10 @@ Subcommand add_render(CLI::App& app) {
                 "Print the per-stage kernel profile table (device times per stage, ms/spp, "
                 "Mrays/s) after the summary");
     c->add_flag("-v,--verbose", args->verbose,
-                "Print the device, scene statistics and kernel options before rendering");
+                "Print the device, scene statistics and kernel options before rendering, and "
+                "after it the start-up split: ms from main() to the first frame (one sample "
+                "per pixel done) and its steps (load, device, scene, programs, first frame "
+                "and the first launches' compile wait), plus exec to main");
     s.run = [args]() -> int { return run_render(*args); };
     return s;
 }
