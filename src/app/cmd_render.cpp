@@ -9,6 +9,7 @@
 #include <cstdio>
 #include <limits>
 #include <filesystem>
+#include <future>
 #include <optional>
 #include <memory>
 #include <string>
@@ -124,8 +125,19 @@ int run_render(const RenderArgs& a) {
         check_writable(variance_path, "--variance output", true);
     }
 
-    // 3. Scene and device.
+    // 3. Scene and device. The device opens (PoCL's start-up: platform, device, context,
+    // queue; tens of ms) on another thread while the scene loads. New programs' cache stores
+    // wait until after the render (cl/program.h): a cold start reaches its first frame
+    // without them.
     render::Startup startup;  // the cold-start split (render/startup.h)
+    ocl::defer_cache_stores(true);
+    std::future<ocl::Device> opening = std::async(std::launch::async, [&] {
+        HostSpan span("device");
+        Timer t;
+        ocl::Device d = ocl::Device::open(a.config.device);
+        startup.device_ms = t.ms();
+        return d;
+    });
     Timer step;
     Scene scene = [&] {
         HostSpan span("load");
@@ -144,15 +156,9 @@ int run_render(const RenderArgs& a) {
     // A reference of the wrong size is an error before any rendering.
     std::optional<render::Reference> ref;
     if (!a.reference.empty()) ref = render::load_reference(a.reference, s.width, s.height);
-    // New programs' cache stores wait until after the render (cl/program.h): a cold start
-    // reaches its first frame without them.
-    ocl::defer_cache_stores(true);
     step.reset();
-    ocl::Device dev = [&] {
-        HostSpan span("device");  // the OpenCL platform and device (PoCL's start-up)
-        return ocl::Device::open(a.config.device);
-    }();
-    startup.device_ms = step.ms();
+    ocl::Device dev = opening.get();
+    startup.device_wait_ms = step.ms();
     render::Wavefront wf(dev, scene, s);
     startup.scene_ms = wf.stats().upload_ms;
     startup.programs_ms = wf.stats().program_ms;

@@ -6,7 +6,9 @@
 // the dynamic loader relocating every shared library and their static constructors; 10 ms
 // resolution) comes on top of it. Steps, in order:
 //   load         the scene file read and parsed (or the built-in scene made)
-//   device       OpenCL platform, device, context and queue (PoCL's start-up)
+//   device       OpenCL platform, device, context and queue (PoCL's start-up), on its own
+//                thread from the start of the load; device_wait_ms is what the main thread
+//                still waited for it after the load and the settings
 //   scene        BVH build, flatten and upload
 //   programs     every stage's program: a build from source, or the binary from the program
 //                cache (cl/program.h), listed per program
@@ -40,6 +42,7 @@ struct Startup {
     double exec_to_main_ms = -1.0;  // < 0: unknown
     double load_ms = 0.0;
     double device_ms = 0.0;
+    double device_wait_ms = 0.0;
     double scene_ms = 0.0;
     double programs_ms = 0.0;
     std::vector<StartupProgram> programs;
