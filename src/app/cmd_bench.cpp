@@ -138,8 +138,8 @@ int run_intersect(const IntersectOptions& o) {
             continue;
         }
         int n = static_cast<int>(rays.size());
-        ::cl::Buffer rb(dev.context, CL_MEM_READ_ONLY, rays.size() * sizeof(Ray));
-        ::cl::Buffer hb(dev.context, CL_MEM_READ_WRITE, rays.size() * sizeof(Hit));
+        ::cl::Buffer rb = dev.create_buffer(CL_MEM_READ_ONLY, rays.size() * sizeof(Ray), "the benchmark rays");
+        ::cl::Buffer hb = dev.create_buffer(CL_MEM_READ_WRITE, rays.size() * sizeof(Hit), "the benchmark hits");
         dev.queue.enqueueWriteBuffer(rb, CL_TRUE, 0, rays.size() * sizeof(Ray), rays.data());
         json jset = {{"rays", sd.name}, {"count", n}, {"variants", json::array()}};
 
@@ -349,8 +349,8 @@ int run_hard(const HardOptions& o) {
     for (auto [name, rays] : {std::pair<const char*, const std::vector<Ray>*>{"primary", &sets.primary},
                               {"diffuse", &sets.diffuse}}) {
         int n = static_cast<int>(rays->size());
-        ::cl::Buffer rb(dev.context, CL_MEM_READ_ONLY, rays->size() * sizeof(Ray));
-        ::cl::Buffer hb(dev.context, CL_MEM_READ_WRITE, rays->size() * sizeof(Hit));
+        ::cl::Buffer rb = dev.create_buffer(CL_MEM_READ_ONLY, rays->size() * sizeof(Ray), "the benchmark rays");
+        ::cl::Buffer hb = dev.create_buffer(CL_MEM_READ_WRITE, rays->size() * sizeof(Hit), "the benchmark hits");
         dev.queue.enqueueWriteBuffer(rb, CL_TRUE, 0, rays->size() * sizeof(Ray), rays->data());
         auto time = [&](bvh::BatchTracer& t) {
             t.enqueue(gpu, rb, n, hb, bvh::TraceVariant::Stackless);

@@ -172,9 +172,12 @@ int run_render(const RenderArgs& a) {
     const std::int64_t host_offset_ns = a.profile.empty() ? 0 : render::device_clock_offset_ns(dev);
     if (a.verbose) {
         fmt::print(stderr, "device: {}: {} ({})\n", dev.info.platform, dev.info.name, dev.info.driver);
-        fmt::print(stderr, "scene: {} ({} triangles, {} materials, BVH {} nodes, depth {}, {:.1f} ms)\n",
+        fmt::print(stderr,
+                   "scene: {} ({} triangles, {} materials, BVH {} nodes, depth {}, built in {:.1f} ms, "
+                   "flattened in {:.1f} ms)\n",
                    scene.name, wf.stats().triangles, wf.stats().materials, wf.stats().bvh_nodes,
-                   wf.stats().bvh_depth, wf.stats().bvh_build_ms);
+                   wf.stats().bvh_depth, wf.stats().bvh_build_ms, wf.stats().bvh_flatten_ms);
+        fmt::print(stderr, "{}", render::format_memory(wf.memory()));
         fmt::print(stderr, "kernel options: {}\n", wf.options());
     }
 
@@ -204,7 +207,8 @@ int run_render(const RenderArgs& a) {
     startup.first_launch_ms = res.first_frame_ms - res.first_frame_kernel_ms;
     startup.to_first_frame_ms = double(res.first_frame_done_ns - main_start_ns()) * 1e-6;
     startup.exec_to_main_ms = exec_to_main_ms();
-    std::uint64_t rays = wf.rays_traced();
+    const render::Wavefront::RayTotals ray_totals = wf.ray_totals();
+    const std::uint64_t rays = ray_totals.closest + ray_totals.shadow;
     progress.finish(res.frames, rays, res.interrupted);
 
     // 5. Images (atomic writes).
@@ -244,7 +248,7 @@ int run_render(const RenderArgs& a) {
                    "accumulate {})\n",
                    nonfinite, counters[WP_COUNTER_GENERATE_NONFINITE],
                    counters[WP_COUNTER_SHADE_NONFINITE], counters[WP_COUNTER_ACCUMULATE_NONFINITE]);
-    render::ProfileSummary prof = render::summarize_profile(wf.profiler(), rays);
+    render::ProfileSummary prof = render::summarize_profile(wf.profiler(), rays, ray_totals.shadow);
     if (!a.quiet) {
         std::string names;
         for (const auto& o : outputs) names += (names.empty() ? "" : ", ") + o.string();
@@ -277,7 +281,8 @@ int run_render(const RenderArgs& a) {
         j["scene"] = {{"name", scene.name}, {"triangles", st.triangles}, {"vertices", st.vertices},
                       {"materials", st.materials}, {"emissive_materials", st.emissive_materials},
                       {"bvh_nodes", st.bvh_nodes}, {"bvh_depth", st.bvh_depth},
-                      {"bvh_build_ms", st.bvh_build_ms}, {"upload_ms", st.upload_ms},
+                      {"bvh_build_ms", st.bvh_build_ms}, {"bvh_flatten_ms", st.bvh_flatten_ms},
+                      {"upload_ms", st.upload_ms},
                       {"program_ms", st.program_ms}};
         j["settings"] = {{"width", s.width}, {"height", s.height}, {"spp_requested", spp},
                          {"spp", res.frames}, {"depth", s.depth}, {"seed", s.seed},
@@ -297,6 +302,7 @@ int run_render(const RenderArgs& a) {
                           {"relmse", err->relmse}, {"relmse_eps", 1e-2}, {"mae", err->mae},
                           {"max_abs", err->max_abs}, {"max_x", err->max_x},
                           {"max_y", err->max_y}, {"reference_own_relmse", ref->own_relmse}};
+        j["memory"] = render::memory_json(wf.memory());
         j["kernel_options"] = wf.options();
         j["startup"] = render::startup_json(startup);
         j["nonfinite"] = {{"generate", counters[WP_COUNTER_GENERATE_NONFINITE]},

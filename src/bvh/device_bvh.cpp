@@ -50,12 +50,11 @@ std::vector<Hit> BatchTracer::trace(const DeviceBvh& bvh, const std::vector<Ray>
     std::vector<Hit> hits(rays.size());
     if (rays.empty()) return hits;
     std::size_t n = rays.size();
-    dev_.check_alloc(n * sizeof(Ray), "the ray batch");
-    ::cl::Buffer rb(dev_.context, CL_MEM_READ_ONLY, n * sizeof(Ray));
-    ::cl::Buffer hb(dev_.context, CL_MEM_WRITE_ONLY, n * sizeof(Hit));
+    ::cl::Buffer rb = dev_.create_buffer(CL_MEM_READ_ONLY, n * sizeof(Ray), "the ray batch");
+    ::cl::Buffer hb = dev_.create_buffer(CL_MEM_WRITE_ONLY, n * sizeof(Hit), "the hit batch");
     dev_.queue.enqueueWriteBuffer(rb, CL_FALSE, 0, n * sizeof(Ray), rays.data());
     ::cl::Buffer sb;
-    if (stats) sb = ::cl::Buffer(dev_.context, CL_MEM_WRITE_ONLY, n * sizeof(TraceStats));
+    if (stats) sb = dev_.create_buffer(CL_MEM_WRITE_ONLY, n * sizeof(TraceStats), "the trace statistics");
     enqueue(bvh, rb, static_cast<int>(n), hb, v, stats ? &sb : nullptr);
     dev_.queue.enqueueReadBuffer(hb, CL_TRUE, 0, n * sizeof(Hit), hits.data());
     if (stats) {

@@ -140,7 +140,7 @@ namespace {
 
 std::vector<Ray> HardProbe::edge_rays(const WatertightCase& c, int count, std::uint32_t seed) {
     ::cl::Buffer seg = upload_segments(dev_, c.segments);
-    ::cl::Buffer rays(dev_.context, CL_MEM_READ_WRITE, std::max(1, count) * sizeof(Ray));
+    ::cl::Buffer rays = dev_.create_buffer(CL_MEM_READ_WRITE, std::max(1, count) * sizeof(Ray), "the edge rays");
     enqueue_edge_rays(c, seg, seed, 0, 0, count, rays);
     std::vector<Ray> out(count);
     dev_.queue.enqueueReadBuffer(rays, CL_TRUE, 0, count * sizeof(Ray), out.data());
@@ -156,9 +156,9 @@ HardCount HardProbe::watertight(const WatertightCase& c, std::uint64_t rays, Tra
     int cap = static_cast<int>(std::min<std::uint64_t>(rays, static_cast<std::uint64_t>(batch)));
     cap = std::max(cap, 1);
     dev_.check_alloc(static_cast<std::uint64_t>(cap) * (sizeof(Ray) + sizeof(Hit)), "the hard-case rays");
-    ::cl::Buffer rb(dev_.context, CL_MEM_READ_WRITE, cap * sizeof(Ray));
-    ::cl::Buffer hb(dev_.context, CL_MEM_READ_WRITE, cap * sizeof(Hit));
-    ::cl::Buffer cnt(dev_.context, CL_MEM_READ_WRITE, 4 * sizeof(int));
+    ::cl::Buffer rb = dev_.create_buffer(CL_MEM_READ_WRITE, cap * sizeof(Ray), "the hard-case rays");
+    ::cl::Buffer hb = dev_.create_buffer(CL_MEM_READ_WRITE, cap * sizeof(Hit), "the hard-case hits");
+    ::cl::Buffer cnt = dev_.create_buffer(CL_MEM_READ_WRITE, 4 * sizeof(int), "the hard-case counts");
     HardCount r;
     Timer timer;
     for (std::uint64_t first = 0; first < rays; first += cap) {

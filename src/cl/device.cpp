@@ -1,7 +1,10 @@
 #include "cl/device.h"
 
+#include <unistd.h>
+
 #include <algorithm>
 #include <cctype>
+#include <cstdlib>
 
 #include <fmt/format.h>
 
@@ -62,6 +65,7 @@ std::vector<DeviceInfo> list_devices() {
             info.compute_units = d.getInfo<CL_DEVICE_MAX_COMPUTE_UNITS>();
             info.global_mem = d.getInfo<CL_DEVICE_GLOBAL_MEM_SIZE>();
             info.max_alloc = d.getInfo<CL_DEVICE_MAX_MEM_ALLOC_SIZE>();
+            info.host_unified = d.getInfo<CL_DEVICE_HOST_UNIFIED_MEMORY>() == CL_TRUE;
             info.device = d;
             out.push_back(std::move(info));
         }
@@ -88,21 +92,83 @@ DeviceInfo select_device(const std::string& selector) {
     fail("no OpenCL device matches '{}'; devices:{}", selector, device_list_text(devices));
 }
 
+namespace {
+
+// The host's physical memory in bytes (0 when unknown).
+std::uint64_t host_memory() {
+    const long pages = ::sysconf(_SC_PHYS_PAGES), page = ::sysconf(_SC_PAGESIZE);
+    return pages > 0 && page > 0 ? std::uint64_t(pages) * std::uint64_t(page) : 0;
+}
+
+// The value of a byte-count environment variable, or 0 when it is unset or empty.
+std::uint64_t env_bytes(const char* name) {
+    const char* v = std::getenv(name);
+    if (!v || !*v) return 0;
+    return parse_byte_count(v, name);
+}
+
+// Receives OpenCL's release of a counted buffer (clSetMemObjectDestructorCallback).
+struct ReleaseToken {
+    std::weak_ptr<MemoryLedger> ledger;
+    std::uint64_t id = 0;
+};
+
+void CL_CALLBACK on_release(cl_mem, void* user) {
+    auto* t = static_cast<ReleaseToken*>(user);
+    if (auto l = t->ledger.lock()) l->remove(t->id);
+    delete t;
+}
+
+}  // namespace
+
 Device Device::open(const std::string& selector) {
     Device d;
     d.info = select_device(selector);
+    // A CPU device sharing the host's memory allocates from all of it (cl/memory.h).
+    std::uint64_t capacity = d.info.global_mem;
+    if (!d.info.is_gpu && d.info.host_unified) capacity = std::max(capacity, host_memory());
+    std::string note;
+    if (const std::uint64_t limit = env_bytes(kMemoryLimitEnv)) {
+        d.info.global_mem = std::min<std::uint64_t>(d.info.global_mem, limit);
+        capacity = std::min(capacity, limit);
+        note += fmt::format(", {}={}", kMemoryLimitEnv, limit);
+    }
+    if (const std::uint64_t limit = env_bytes(kMaxAllocEnv)) {
+        d.info.max_alloc = std::min<std::uint64_t>(d.info.max_alloc, limit);
+        note += fmt::format(", {}={}", kMaxAllocEnv, limit);
+    }
+    if (!note.empty()) note = " (limited by" + note.substr(1) + ")";
+    d.memory = std::make_shared<MemoryLedger>(d.info.name, capacity, d.info.max_alloc, note);
     d.context = ::cl::Context(d.info.device);
     d.queue = ::cl::CommandQueue(d.context, d.info.device, CL_QUEUE_PROFILING_ENABLE);
     return d;
 }
 
 void Device::check_alloc(std::uint64_t bytes, const std::string& what) const {
-    if (bytes > info.max_alloc)
-        fail("{} needs a buffer of {}, but device '{}' allows at most {} per buffer", what,
-             format_bytes(bytes), info.name, format_bytes(info.max_alloc));
-    if (bytes > info.global_mem)
-        fail("{} needs {}, but device '{}' has {} of memory", what, format_bytes(bytes), info.name,
-             format_bytes(info.global_mem));
+    if (memory) return memory->check_buffer(bytes, what);
+    // A Device not made by open(): its limits only.
+    MemoryLedger(info.name, info.global_mem, info.max_alloc).check_buffer(bytes, what);
+}
+
+::cl::Buffer Device::create_buffer(cl_mem_flags flags, std::uint64_t bytes, const std::string& what) const {
+    check_alloc(bytes, what);
+    ::cl::Buffer b;
+    try {
+        b = ::cl::Buffer(context, flags, bytes);
+    } catch (const ::cl::Error& e) {
+        fail("device '{}' refused a buffer of {} for {} (OpenCL error {} in {})", info.name,
+             format_bytes(bytes), what, e.err(), e.what());
+    }
+    if (memory) {
+        auto* token = new ReleaseToken{memory, memory->add(what, bytes)};
+        try {
+            b.setDestructorCallback(&on_release, token);
+        } catch (const ::cl::Error&) {
+            memory->remove(token->id);  // not counted: the device cannot tell us when it goes
+            delete token;
+        }
+    }
+    return b;
 }
 
 std::string format_bytes(std::uint64_t bytes) {

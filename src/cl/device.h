@@ -5,8 +5,11 @@
 
 #include <algorithm>
 #include <cstdint>
+#include <memory>
 #include <string>
 #include <vector>
+
+#include "cl/memory.h"
 
 namespace wp::ocl {
 
@@ -22,6 +25,7 @@ struct DeviceInfo {
     unsigned compute_units = 0;
     std::uint64_t global_mem = 0;     // bytes
     std::uint64_t max_alloc = 0;      // bytes, largest single buffer
+    bool host_unified = false;        // CL_DEVICE_HOST_UNIFIED_MEMORY
     bool is_gpu = false;
     ::cl::Device device;
 };
@@ -35,15 +39,27 @@ std::vector<DeviceInfo> list_devices();
 // text (case-insensitive). Throws wp::Error listing the devices when nothing matches.
 DeviceInfo select_device(const std::string& selector);
 
-// A context and an in-order, profiling-enabled queue on one device.
+// The testing aid of cl/memory.h: these make a device look smaller (bytes; K, M, G suffixes).
+inline constexpr const char* kMemoryLimitEnv = "WP_DEVICE_MEMORY_LIMIT";
+inline constexpr const char* kMaxAllocEnv = "WP_DEVICE_MAX_ALLOC";
+
+// A context and an in-order, profiling-enabled queue on one device, and the ledger of its
+// buffers (cl/memory.h).
 struct Device {
     DeviceInfo info;
     ::cl::Context context;
     ::cl::CommandQueue queue;
+    std::shared_ptr<MemoryLedger> memory;
 
+    // Opens the device; WP_DEVICE_MEMORY_LIMIT / WP_DEVICE_MAX_ALLOC, when set, lower
+    // info.global_mem / info.max_alloc and the ledger's limits (a testing aid).
     static Device open(const std::string& selector);
-    // Throws wp::Error when `bytes` exceed what the device can hold, naming `what`.
+    // Throws wp::Error naming `what` and the sizes when one buffer of `bytes` does not fit
+    // the device: larger than its largest allocation, or more than its free memory.
     void check_alloc(std::uint64_t bytes, const std::string& what) const;
+    // A buffer of `bytes`, checked (check_alloc) and counted in the ledger under `what`
+    // until OpenCL releases it; an allocation the driver refuses is a wp::Error too.
+    ::cl::Buffer create_buffer(cl_mem_flags flags, std::uint64_t bytes, const std::string& what) const;
 };
 
 // A read-only device buffer holding a copy of `v` (one zeroed element when `v` is empty:
@@ -51,8 +67,7 @@ struct Device {
 template <typename T>
 ::cl::Buffer upload_buffer(const Device& dev, const std::vector<T>& v, const char* what) {
     std::size_t bytes = std::max<std::size_t>(v.size(), 1) * sizeof(T);
-    dev.check_alloc(bytes, what);
-    ::cl::Buffer b(dev.context, CL_MEM_READ_ONLY, bytes);
+    ::cl::Buffer b = dev.create_buffer(CL_MEM_READ_ONLY, bytes, what);
     if (v.empty()) {
         T zero{};
         dev.queue.enqueueWriteBuffer(b, CL_TRUE, 0, sizeof(T), &zero);

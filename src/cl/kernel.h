@@ -31,14 +31,13 @@ struct Array {
 
     std::size_t bytes() const { return size * sizeof(T); }
 
-    // Uninitialised storage for n elements; throws wp::Error naming `what` when the device
-    // cannot hold it.
+    // Uninitialised storage for n elements, counted in the device's ledger as `what`
+    // (cl/memory.h); throws wp::Error naming `what` when the device cannot hold it.
     static Array allocate(const Device& dev, std::size_t n, const char* what) {
         Array a;
         a.size = n;
         std::size_t bytes = std::max<std::size_t>(n, 1) * sizeof(T);
-        dev.check_alloc(bytes, what);
-        a.buffer = ::cl::Buffer(dev.context, CL_MEM_READ_WRITE, bytes);
+        a.buffer = dev.create_buffer(CL_MEM_READ_WRITE, bytes, what);
         return a;
     }
     // n zeroed elements.

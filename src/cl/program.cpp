@@ -121,6 +121,9 @@ Program Program::build(const Device& dev, const std::string& file, const std::st
     Program prog;
     prog.file = file;
     prog.options = "-cl-std=CL1.2 -I. " + options;
+    // Extra build options for profiling (e.g. WP_CL_OPTIONS=-g: line tables in PoCL's
+    // kernel binaries for perf annotate and callgrind); part of the cache key.
+    if (const char* extra = std::getenv("WP_CL_OPTIONS"); extra && *extra) prog.options += std::string(" ") + extra;
     std::string source = assemble_source(file);
 
     // Cache key: everything that can change the binary.

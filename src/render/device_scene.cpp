@@ -11,6 +11,7 @@
 
 #include "bvh/build.h"
 #include "bvh/flatten.h"
+#include "render/memory.h"
 #include "scene/upload.h"
 #include "util/host_trace.h"
 #include "util/timer.h"
@@ -57,7 +58,9 @@ DeviceScene DeviceScene::upload(const ocl::Device& dev, const Scene& scene, cons
     std::optional<HostSpan> span(std::in_place, "bvh");
     auto boxes = bvh::triangle_boxes(scene.positions, scene.triangles);
     bvh::Bvh bvh = bvh::build(boxes);
+    Timer flatten_timer;
     bvh::FlatBvh flat = bvh::flatten(bvh, scene.positions, scene.triangles);
+    const double flatten_ms = flatten_timer.ms();
     span.emplace("upload");  // ends the BVH's span
     SceneUpload up = upload_scene(scene);
     d.camera = upload_camera(scene.camera, width, height, jitter);
@@ -71,8 +74,13 @@ DeviceScene DeviceScene::upload(const ocl::Device& dev, const Scene& scene, cons
     st.bvh_nodes = flat.nodes.size();
     st.bvh_depth = flat.depth;
     st.bvh_build_ms = bvh.build_ms;
+    st.bvh_flatten_ms = flatten_ms;
 
-    d.bvh = bvh::DeviceBvh::upload(dev, flat);
+    {
+        ocl::MemoryGroup group(dev, kMemoryBvh);
+        d.bvh = bvh::DeviceBvh::upload(dev, flat);
+    }
+    ocl::MemoryGroup group(dev, kMemoryScene);  // everything else this function uploads
     ShadingScene& s = d.shading;
     s.tris = ocl::Array<Triangle>::upload(dev, up.triangles, "the shading triangles");
     s.material_ids = ocl::Array<int>::upload(dev, up.material_ids, "the material ids");

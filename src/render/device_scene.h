@@ -67,8 +67,9 @@ struct SceneStats {
     std::size_t light_triangles = 0;  // entries of the NEE light table (0 without NEE)
     std::size_t bvh_nodes = 0;        // interior nodes of the flattened BVH
     int bvh_depth = 0;
-    double bvh_build_ms = 0.0;
-    double upload_ms = 0.0;   // flatten + upload
+    double bvh_build_ms = 0.0;    // binned SAH build (bvh::build)
+    double bvh_flatten_ms = 0.0;  // collapse to the 8-wide device layout (bvh::flatten)
+    double upload_ms = 0.0;   // build + flatten + upload
     double program_ms = 0.0;  // all program builds (or cache loads)
     std::size_t scene_bytes = 0;  // device memory of the scene (BVH, shading data, lights,
                                   // appearance)

@@ -3,6 +3,7 @@
 #include <algorithm>
 
 #include "cl/profiler.h"
+#include "render/memory.h"
 #include "util/error.h"
 
 namespace wp::render {
@@ -14,6 +15,9 @@ std::size_t PathPool::bytes_per_path(bool nee) {
 }
 
 PathPool::PathPool(const ocl::Device& dev, std::size_t capacity, bool nee) : capacity_(capacity) {
+    ocl::MemoryGroup group(dev, kMemoryPool);
+    // The whole pool first, so that a pool too large is named as such.
+    if (dev.memory) dev.memory->check_room(capacity * bytes_per_path(nee), "the path pool");
     for (auto& q : queue) {
         q.rays = ocl::Array<Ray>::allocate(dev, capacity, "the ray queue");
         q.paths = ocl::Array<PathState>::allocate(dev, capacity, "the path queue");
@@ -32,11 +36,16 @@ PathPool::PathPool(const ocl::Device& dev, std::size_t capacity, bool nee) : cap
 FilmBuffers::FilmBuffers(const ocl::Device& dev, std::size_t pixels, bool with_variance,
                          std::size_t segment_pixels)
     : variance(with_variance) {
+    ocl::MemoryGroup group(dev, kMemoryFilm);
+    // The whole film first, so that a film too large is named as such.
+    if (dev.memory)
+        dev.memory->check_room(pixels * bytes_per_pixel(variance),
+                               fmt::format("the film ({} pixels)", pixels));
     std::size_t seg = segment_pixels > 0 ? segment_pixels : dev.info.max_alloc / sizeof(FilmPixel);
     seg = std::max<std::size_t>(seg, 1);
-    // Each segment must fit one buffer. The whole film is not checked against the device's
-    // reported global memory: PoCL reports a third of the host's memory (7.5 GiB of 24) but
-    // allocates from all of it, and a 16384^2 film (8 GiB) renders there.
+    // Each segment must fit one buffer. (The whole film is held to the ledger's capacity,
+    // which for a CPU device sharing the host's memory is that memory, not the smaller
+    // figure PoCL reports: a 16384^2 film of 8 GiB renders there; cl/memory.h.)
     dev.check_alloc(std::min(seg, pixels) * sizeof(FilmPixel), "a film segment");
     for (std::size_t first = 0; first < pixels; first += seg) {
         FilmSegment s;
@@ -48,6 +57,7 @@ FilmBuffers::FilmBuffers(const ocl::Device& dev, std::size_t pixels, bool with_v
     }
     counters = ocl::Array<int>::allocate(dev, WP_COUNTER_COUNT, "the counters");
     ray_total = ocl::Array<cl_ulong>::allocate(dev, 1, "the ray total");
+    shadow_ray_total = ocl::Array<cl_ulong>::allocate(dev, 1, "the shadow ray total");
     clear(dev);
 }
 
@@ -64,20 +74,27 @@ void FilmBuffers::clear(const ocl::Device& dev) const {
     }
     counters.fill_zero(dev);
     ray_total.fill_zero(dev);
+    shadow_ray_total.fill_zero(dev);
 }
 
-std::size_t pool_capacity(const ocl::Device& dev, std::size_t pixels, std::size_t requested, bool nee) {
+std::size_t pool_capacity(const ocl::Device& dev, std::size_t pixels, std::size_t requested, bool nee,
+                          std::size_t reserve) {
     const std::size_t per_path = PathPool::bytes_per_path(nee);
     const std::size_t widest = std::max(sizeof(Ray), sizeof(PathState));  // largest array element
     if (requested > 0) {
         dev.check_alloc(requested * widest, "a path pool array (--pool)");
-        dev.check_alloc(requested * per_path, "the path pool (--pool)");
+        if (dev.memory) dev.memory->check_room(requested * per_path, "the path pool (--pool)");
         return requested;
     }
     std::size_t cap = std::min(PathPool::kDefaultCapacity, 16 * std::max<std::size_t>(pixels, 1));
     const auto budget = static_cast<std::size_t>(PathPool::kMemoryShare * double(dev.info.global_mem));
     cap = std::min(cap, budget / per_path);
     cap = std::min<std::size_t>(cap, dev.info.max_alloc / widest);
+    // What is left once the scene is on the device and `reserve` bytes are kept back.
+    if (dev.memory) {
+        const std::uint64_t free = dev.memory->available();
+        cap = std::min<std::size_t>(cap, free > reserve ? (free - reserve) / per_path : 0);
+    }
     return std::max<std::size_t>(cap, ocl::kLocalSize);
 }
 

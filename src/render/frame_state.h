@@ -72,13 +72,14 @@ struct FilmSegment {
 };
 
 // The film: running sums per pixel (and of squares with variance), the NaN/Inf counters
-// per stage and the total of rays traced. A device caps one buffer (PoCL: 2 GiB, 67M
+// per stage and the totals of rays traced (closest hit and shadow). A device caps one buffer (PoCL: 2 GiB, 67M
 // pixels), so the film is cut into segments of at most that; a wave never straddles two
 // (Wavefront::render_passes), and one segment holds any image that fits the pool.
 struct FilmBuffers {
     std::vector<FilmSegment> segments;
     ocl::Array<int> counters;        // WP_COUNTER_COUNT
-    ocl::Array<cl_ulong> ray_total;  // one element
+    ocl::Array<cl_ulong> ray_total;         // one element: closest-hit rays (queue_reset)
+    ocl::Array<cl_ulong> shadow_ray_total;  // one element: shadow rays (shadow_trace)
     bool variance = false;
 
     FilmBuffers() = default;
@@ -95,9 +96,11 @@ struct FilmBuffers {
 };
 
 // The pool capacity for a render of `pixels` pixels: `requested` when > 0, else the smallest
-// of kDefaultCapacity, 16 passes of the image and what the device's memory share holds;
-// at least one work-group. Throws wp::Error when a requested pool does not fit.
-std::size_t pool_capacity(const ocl::Device& dev, std::size_t pixels, std::size_t requested, bool nee);
+// of kDefaultCapacity, 16 passes of the image, what the device's memory share holds and what
+// its free memory holds after keeping `reserve` bytes back (the film, allocated after the
+// pool); at least one work-group. Throws wp::Error when a requested pool does not fit.
+std::size_t pool_capacity(const ocl::Device& dev, std::size_t pixels, std::size_t requested, bool nee,
+                          std::size_t reserve = 0);
 
 }  // namespace wp::render
 

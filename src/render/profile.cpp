@@ -6,9 +6,31 @@
 
 namespace wp::render {
 
-ProfileSummary summarize_profile(const ocl::Profiler& profiler, std::uint64_t rays) {
+double median_ms_per_pass(const std::vector<ocl::WaveRecord>& waves, bool thinned) {
+    std::vector<double> per_spp;
+    double span = 0.0, passes = 0.0;
+    for (const auto& w : waves) {
+        if (!(w.passes > 0.0)) continue;
+        span += w.span_ms;
+        passes += w.passes;
+        // A group ends at a whole number of passes (the parts of a pass add up to 1 up to
+        // rounding: count / pixels per wave).
+        if (thinned || passes >= 1.0 - 1e-9) {
+            per_spp.push_back(span / passes);
+            span = passes = 0.0;
+        }
+    }
+    if (per_spp.empty()) return 0.0;
+    std::sort(per_spp.begin(), per_spp.end());
+    const std::size_t m = per_spp.size();
+    return m % 2 ? per_spp[m / 2] : 0.5 * (per_spp[m / 2 - 1] + per_spp[m / 2]);
+}
+
+ProfileSummary summarize_profile(const ocl::Profiler& profiler, std::uint64_t rays,
+                                 std::uint64_t shadow_rays) {
     ProfileSummary p;
     p.rays = rays;
+    p.shadow_rays = shadow_rays;
     p.spp = profiler.passes();
     p.wave_count = profiler.wave_count();
     p.waves = profiler.waves();
@@ -23,14 +45,8 @@ ProfileSummary summarize_profile(const ocl::Profiler& profiler, std::uint64_t ra
         p.stages.push_back(s);
     }
     for (auto& s : p.stages) s.percent = p.kernel_ms > 0.0 ? 100.0 * s.total_ms / p.kernel_ms : 0.0;
-    std::vector<double> per_spp;
-    for (const auto& w : p.waves)
-        if (w.passes > 0.0) per_spp.push_back(w.span_ms / w.passes);
-    if (!per_spp.empty()) {
-        std::sort(per_spp.begin(), per_spp.end());
-        std::size_t m = per_spp.size();
-        p.median_ms_per_spp = m % 2 ? per_spp[m / 2] : 0.5 * (per_spp[m / 2 - 1] + per_spp[m / 2]);
-    }
+    p.median_ms_per_spp =
+        median_ms_per_pass(p.waves, static_cast<std::size_t>(p.wave_count) > p.waves.size());
     const double span = profiler.span_ms();
     p.mrays_per_s = span > 0.0 ? rays / (span * 1e-3) * 1e-6 : 0.0;
     return p;
@@ -57,6 +73,9 @@ nlohmann::json profile_json(const ProfileSummary& p) {
     j["kernel_ms"] = p.kernel_ms;
     j["median_ms_per_spp"] = p.median_ms_per_spp;
     j["rays"] = p.rays;
+    j["rays_closest"] = p.rays - p.shadow_rays;  // intersect.closest
+    j["rays_shadow"] = p.shadow_rays;            // shadow
+    j["rays_per_spp"] = p.spp > 0.0 ? double(p.rays) / p.spp : 0.0;
     j["mrays_per_s"] = p.mrays_per_s;
     auto& w = j["wave_ms"] = nlohmann::json::array();
     for (const auto& r : p.waves)

@@ -35,12 +35,23 @@ struct ProfileSummary {
     int wave_count = 0;
     double spp = 0.0;                     // samples per pixel rendered
     double kernel_ms = 0.0;               // sum of all launch times
-    double median_ms_per_spp = 0.0;       // median over waves of span / passes
+    double median_ms_per_spp = 0.0;       // median over passes (median_ms_per_pass)
     std::uint64_t rays = 0;               // rays traced (closest hit and shadow)
+    std::uint64_t shadow_rays = 0;        // of them, shadow rays (shadow_trace)
     double mrays_per_s = 0.0;             // rays / sum of wave spans
 };
 
-ProfileSummary summarize_profile(const ocl::Profiler& profiler, std::uint64_t rays);
+// The median time of one sample per pixel: waves are taken together into whole passes (a
+// pass of an image larger than the pool runs as several waves over different parts of the
+// image, whose costs differ with what those parts show), and the median is over the groups
+// of span / passes (a wave of k >= 1 passes is its own group). When the profiler thinned its
+// wave records (`thinned`), the waves no longer join into passes, and each kept wave counts
+// alone.
+double median_ms_per_pass(const std::vector<ocl::WaveRecord>& waves, bool thinned);
+
+// rays: all rays traced; shadow_rays: how many of them were shadow rays.
+ProfileSummary summarize_profile(const ocl::Profiler& profiler, std::uint64_t rays,
+                                 std::uint64_t shadow_rays = 0);
 
 // The table, ending in a newline.
 std::string format_profile_table(const ProfileSummary& p);

@@ -22,6 +22,10 @@ void validate(const RenderSettings& s) {
 
 namespace {
 
+// Room an automatic pool leaves, beyond the film, for the counters, ray totals and queue
+// lengths (a few dozen bytes) and the shadow queue's placeholders.
+constexpr std::size_t kSmallBuffersBytes = std::size_t(64) << 10;
+
 KernelConfig make_config(const Scene& scene, const RenderSettings& s) {
     KernelConfig c = KernelConfig::from_scene(scene, s.estimator);
     if (s.kernels == KernelSet::Generic) c = c.with_every_feature();
@@ -34,11 +38,26 @@ KernelConfig make_config(const Scene& scene, const RenderSettings& s) {
 
 Wavefront::Wavefront(ocl::Device& dev, const Scene& scene, const RenderSettings& settings)
     : dev_(dev), settings_((validate(settings), settings)), config_(make_config(scene, settings)),
-      options_(config_.options()),
+      options_(config_.options()), memory_from_(dev.memory ? dev.memory->next_id() : 0),
       scene_(DeviceScene::upload(dev, scene, config_, settings.width, settings.height, settings.jitter)) {
+    // Scene, pool, film: each buffer is checked against the device before it is created
+    // (cl/memory.h), so a render that does not fit fails here, before any kernel runs.
     const auto pixels = static_cast<std::size_t>(pixel_count());
-    pool_ = PathPool(dev, render::pool_capacity(dev, pixels, settings.pool, config_.nee()), config_.nee());
+    // An automatic pool leaves room for the film and the few small buffers after it.
+    const std::size_t reserve = film_bytes() + kSmallBuffersBytes;
+    pool_ = PathPool(dev, render::pool_capacity(dev, pixels, settings.pool, config_.nee(), reserve),
+                     config_.nee());
     film_ = FilmBuffers(dev, pixels, settings.variance, settings.film_segment);
+    memory_.capacity = dev.memory ? dev.memory->capacity() : dev.info.global_mem;
+    memory_.max_alloc = dev.info.max_alloc;
+    if (dev.memory)
+        for (auto& b : dev.memory->live())
+            if (b.id >= memory_from_) memory_.buffers.push_back(std::move(b));
+    memory_.triangles = scene_.stats.triangles;
+    memory_.pool_paths = pool_.capacity();
+    memory_.bytes_per_path = PathPool::bytes_per_path(config_.nee());
+    memory_.pixels = pixels;
+    memory_.bytes_per_pixel = FilmBuffers::bytes_per_pixel(settings.variance);
 
     // Programs (disk-cached), one per stage, each with its slice of the configuration.
     Timer prog_timer;
@@ -131,8 +150,8 @@ void Wavefront::run_wave(int first_pixel, std::uint32_t first_sample, int count)
         shade_.enqueue(live, in, pool_.hits, scene_.shading, settings_.seed, b, depth, pool_.radiance,
                        film_.counters, out, pool_.shadow);
         // Shadow rays of this bounce's light samples (none at the last bounce).
-        if (nee && b < depth) shadow_.enqueue(live, pool_.shadow, scene_.bvh, pool_.radiance, film_.ray_total,
-                                              &scene_.shading.tex);
+        if (nee && b < depth) shadow_.enqueue(live, pool_.shadow, scene_.bvh, pool_.radiance,
+                                              film_.shadow_ray_total, &scene_.shading.tex);
         if (b == depth) break;
         // Read this bounce's survivors without waiting; wait for the previous bounce's.
         dev_.queue.enqueueReadBuffer(out.count.buffer, CL_FALSE, 0, sizeof(int), &count_read_[b & 1],
@@ -194,6 +213,13 @@ std::array<int, WP_COUNTER_COUNT> Wavefront::counters() {
     return c;
 }
 
-std::uint64_t Wavefront::rays_traced() { return film_.ray_total.read(dev_)[0]; }
+Wavefront::RayTotals Wavefront::ray_totals() {
+    return {film_.ray_total.read(dev_)[0], film_.shadow_ray_total.read(dev_)[0]};
+}
+
+std::uint64_t Wavefront::rays_traced() {
+    const RayTotals t = ray_totals();
+    return t.closest + t.shadow;
+}
 
 }  // namespace wp::render

@@ -38,6 +38,7 @@
 #include "render/film.h"
 #include "render/frame_state.h"
 #include "render/kernel_config.h"
+#include "render/memory.h"
 #include "render/stages/accumulate.h"
 #include "render/stages/generate.h"
 #include "render/stages/intersect.h"
@@ -108,12 +109,18 @@ class Wavefront {
     std::size_t pool_capacity() const { return pool_.capacity(); }
     std::size_t pool_bytes() const { return pool_.bytes(); }
     std::size_t film_bytes() const;
+    // Every device buffer this render allocated, by group (render/memory.h).
+    const MemoryReport& memory() const { return memory_; }
 
     // Blocking reads (call between render_passes, not inside the hot path). resolve() and
     // moments() read the film in chunks, so a 16384² film is not copied whole.
     Image resolve();                                    // film sum / spp, linear RGB
     std::array<int, WP_COUNTER_COUNT> counters();       // non-finite values per stage
     std::uint64_t rays_traced();                        // all rays traced so far
+    struct RayTotals {
+        std::uint64_t closest = 0, shadow = 0;
+    };
+    RayTotals ray_totals();                             // the same, per kind of ray
     std::vector<FilmPixel> film();                      // the raw film
     // Mean, sample variance and variance of the mean (render/film.h); needs
     // settings.variance, else throws wp::Error.
@@ -130,6 +137,7 @@ class Wavefront {
     ocl::Profiler profiler_;
     int passes_ = 0;
 
+    std::uint64_t memory_from_ = 0;  // the ledger's first buffer id of this render
     DeviceScene scene_;
     PathPool pool_;
     FilmBuffers film_;
@@ -139,6 +147,7 @@ class Wavefront {
     ShadeStage shade_;
     ShadowStage shadow_;  // built only with NEE
     AccumulateStage accumulate_;
+    MemoryReport memory_;
     // Surviving counts read back per bounce (non-blocking; see above).
     std::array<int, 2> count_read_{};
     std::array<::cl::Event, 2> count_event_;

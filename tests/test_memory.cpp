@@ -1,0 +1,300 @@
+// test_memory.cpp — device memory accounting (cl/memory.h, render/memory.h) and the clean
+// failure of a render that does not fit the device (WP_DEVICE_MEMORY_LIMIT,
+// WP_DEVICE_MAX_ALLOC make the device look smaller).
+#include <catch2/catch.hpp>
+
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <string>
+
+#include <nlohmann/json.hpp>
+
+#include "bvh/build.h"
+#include "bvh/flatten.h"
+#include "cl/kernel.h"
+#include "cl/memory.h"
+#include "image/image.h"
+#include "render/profile.h"
+#include "render/wavefront.h"
+#include "scene/builtin.h"
+#include "support.h"
+#include "temp_dir.h"
+#include "util/error.h"
+
+using namespace wp;
+namespace fs = std::filesystem;
+
+namespace {
+
+bool contains(const std::string& s, const std::string& part) { return s.find(part) != std::string::npos; }
+
+// Sets an environment variable for the child processes of one scope.
+struct ScopedEnv {
+    std::string name;
+    ScopedEnv(std::string n, const std::string& value) : name(std::move(n)) {
+        ::setenv(name.c_str(), value.c_str(), 1);
+    }
+    ~ScopedEnv() { ::unsetenv(name.c_str()); }
+};
+
+std::uint64_t bytes_of(const render::MemoryReport& m, const std::string& name) {
+    std::uint64_t b = 0;
+    for (const auto& r : m.buffers)
+        if (r.name == name) b += r.bytes;
+    return b;
+}
+
+}  // namespace
+
+TEST_CASE("memory: byte counts with K, M, G suffixes", "[unit]") {
+    CHECK(ocl::parse_byte_count("4096", "X") == 4096u);
+    CHECK(ocl::parse_byte_count("512K", "X") == 512u * 1024u);
+    CHECK(ocl::parse_byte_count("64m", "X") == 64ull << 20);
+    CHECK(ocl::parse_byte_count("2G", "X") == 2ull << 30);
+    for (const char* bad : {"", "0", "12X", "-5", "1.5M", "M", "99999999999999999999", "17179869184G"}) {
+        INFO(bad);
+        try {
+            ocl::parse_byte_count(bad, "WP_DEVICE_MEMORY_LIMIT");
+            FAIL("accepted");
+        } catch (const Error& e) {
+            CHECK(contains(e.what(), "WP_DEVICE_MEMORY_LIMIT"));
+        }
+    }
+}
+
+TEST_CASE("memory: the ledger checks one buffer against the largest allocation and all against the capacity",
+          "[unit]") {
+    ocl::MemoryLedger l("dev", 1000, 450, " (note)");
+    try {
+        l.check_buffer(451, "the big array");
+        FAIL("accepted");
+    } catch (const Error& e) {
+        std::string m = e.what();
+        CHECK(contains(m, "buffer too large for the big array: 451 B needed"));
+        CHECK(contains(m, "at most 450 B per buffer (note)"));
+    }
+    l.set_group("bvh");
+    const auto a = l.add("a", 300);
+    l.set_group("pool");
+    l.add("b", 300);
+    CHECK(l.live_bytes() == 600u);
+    CHECK(l.available() == 400u);
+    l.check_buffer(400, "fits exactly");
+    try {
+        l.check_buffer(401, "the film");
+        FAIL("accepted");
+    } catch (const Error& e) {
+        std::string m = e.what();
+        CHECK(contains(m, "not enough device memory for the film: 401 B needed"));
+        CHECK(contains(m, "only 400 B of its 1000 B free"));
+        CHECK(contains(m, "bvh 300 B, pool 300 B"));
+    }
+    // check_room does not look at the largest allocation.
+    l.check_room(400, "several buffers");
+    l.remove(a);
+    CHECK(l.live_bytes() == 300u);
+    CHECK(l.live().size() == 1);
+    CHECK(l.live()[0].group == "pool");
+    l.remove(a);  // twice: nothing
+    CHECK(l.live_bytes() == 300u);
+}
+
+TEST_CASE("memory: device buffers are counted by group until OpenCL releases them", "[kernel]") {
+    ocl::Device& dev = test::device();
+    REQUIRE(dev.memory);
+    dev.queue.finish();
+    const std::uint64_t before = dev.memory->live_bytes();
+    {
+        auto a = ocl::Array<float4>::allocate(dev, 1000, "the test array");
+        std::vector<int> v(10, 1);
+        ocl::Array<int> b;
+        {
+            ocl::MemoryGroup g(dev, "scene");
+            b = ocl::Array<int>::upload(dev, v, "the test upload");
+        }
+        auto c = ocl::Array<Ray>::zeros(dev, 0, "the test placeholder");  // one element
+        CHECK(dev.memory->live_bytes() == before + 1000 * 16 + 10 * 4 + 32);
+        auto live = dev.memory->live();
+        REQUIRE(live.size() >= 3);
+        const auto& last = live.back();
+        CHECK(last.name == "the test placeholder");
+        CHECK(last.group == "other");
+        CHECK(live[live.size() - 2].group == "scene");
+        CHECK(live[live.size() - 2].bytes == 40u);
+        dev.queue.finish();
+    }
+    dev.queue.finish();
+    CHECK(dev.memory->live_bytes() == before);
+}
+
+TEST_CASE("memory: a render's buffers are the struct sizes times the counts", "[render]") {
+    Scene scene = make_cornell_box(4000);
+    const std::size_t n = scene.triangle_count();
+    REQUIRE(n > 4000);
+    for (bool nee : {true, false}) {
+        render::RenderSettings s;
+        s.width = 64;
+        s.height = 48;
+        s.estimator.sampling = nee ? render::Sampling::Mis : render::Sampling::Uniform;
+        render::Wavefront wf(test::device(), scene, s);
+        REQUIRE(wf.config().nee() == nee);
+        const render::MemoryReport& m = wf.memory();
+        INFO(render::format_memory(m));
+        CHECK(m.triangles == n);
+
+        // BVH: 8-wide nodes of 6 rows of 8 floats, 8 child references and 8 ints of padding
+        // (256 bytes; 4-wide: 128), a parent link and slot per node, the triangles in leaf
+        // order (3 float4) and their ids.
+        const std::size_t node_bytes = 6 * WP_BVH_WIDTH * 4 + 2 * WP_BVH_WIDTH * 4;
+        REQUIRE(sizeof(BvhNode) == node_bytes);
+        const std::size_t tri_bytes = 3 * 16;
+        const std::size_t nodes = wf.stats().bvh_nodes;
+        // Interior nodes: at least one; each has at least two children, so fewer than the
+        // leaves, and leaves hold at least one triangle.
+        CHECK(nodes >= 1);
+        CHECK(nodes <= n - 1);
+        // An independent build of the same triangles gives the same node count.
+        auto flat = bvh::flatten(bvh::build(bvh::triangle_boxes(scene.positions, scene.triangles)),
+                                 scene.positions, scene.triangles);
+        CHECK(flat.nodes.size() == nodes);
+        CHECK(bytes_of(m, "the BVH nodes") == nodes * node_bytes);
+        CHECK(bytes_of(m, "the BVH links") == nodes * 2 * 4);
+        CHECK(bytes_of(m, "the triangles") == n * tri_bytes);
+        CHECK(bytes_of(m, "the triangle ids") == n * 4);
+        CHECK(m.group("bvh") == nodes * (node_bytes + 8) + n * (tri_bytes + 4));
+        // Scene: the shading triangles in scene order and one material id per triangle.
+        CHECK(bytes_of(m, "the shading triangles") == n * tri_bytes);
+        CHECK(bytes_of(m, "the material ids") == n * 4);
+        CHECK(bytes_of(m, "the materials") == scene.materials.size() * sizeof(MaterialData));
+        CHECK(m.group("scene") >= n * (tri_bytes + 4));
+
+        // Pool: per path two rays (2 float4) and two path states (float4 + 4 scalars), a hit
+        // (4 scalars) and the radiance (float4); with NEE a shadow ray, its item and its
+        // contribution: 212 bytes with NEE, 160 without (render/frame_state.h); plus three
+        // 4-byte queue lengths, and without NEE the shadow queue's one-element placeholders.
+        const std::size_t per_path = nee ? 212 : 160;
+        CHECK(render::PathPool::bytes_per_path(nee) == per_path);
+        CHECK(m.bytes_per_path == per_path);
+        const std::size_t paths = wf.pool_capacity();
+        CHECK(m.pool_paths == paths);
+        const std::size_t fixed = 3 * 4 + (nee ? 0 : 32 + 4 + 16);
+        CHECK(m.group("pool") == paths * per_path + fixed);
+        CHECK(wf.pool_bytes() == paths * per_path);
+
+        // Film: a double-float sum (2 float4) per pixel, 8 counters, two 64-bit ray totals.
+        CHECK(m.group("film") == 64u * 48u * 32u + 8 * 4 + 2 * 8);
+        CHECK(m.pixels == 64u * 48u);
+
+        CHECK(m.total() == m.group("bvh") + m.group("scene") + m.group("pool") + m.group("film"));
+        CHECK(m.bytes_per_triangle() == Approx(double(m.group("bvh") + m.group("scene")) / double(n)));
+        // Every buffer of the render is in one of the four groups.
+        for (const auto& b : m.buffers) {
+            INFO(b.name);
+            CHECK((b.group == "bvh" || b.group == "scene" || b.group == "pool" || b.group == "film"));
+        }
+        auto j = render::memory_json(m);
+        CHECK(j["groups"]["pool"].get<std::uint64_t>() == m.group("pool"));
+        CHECK(j["bytes_per_path"].get<std::size_t>() == per_path);
+    }
+}
+
+TEST_CASE("profile: ms per spp is the median over whole passes, however many waves a pass takes", "[unit]") {
+    auto wave = [](double passes, double span) {
+        ocl::WaveRecord w;
+        w.passes = passes;
+        w.span_ms = span;
+        return w;
+    };
+    // An image three times the pool: each pass is three waves over the top, middle and
+    // bottom of the image, the bottom dearer. Each pass costs 10 + 10 + 40 = 60 ms; the
+    // median of the waves' own rates (30, 30, 120 ms per spp) would say 30.
+    std::vector<ocl::WaveRecord> w;
+    for (double bottom : {40.0, 40.0, 46.0})
+        for (double span : {10.0, 10.0, bottom}) w.push_back(wave(1.0 / 3.0, span));
+    CHECK(render::median_ms_per_pass(w, false) == Approx(60.0));
+    // Waves of whole passes are their own groups: 2 passes in 100 ms, 1 in 40, 1 in 70.
+    std::vector<ocl::WaveRecord> whole = {wave(2, 100), wave(1, 40), wave(1, 70)};
+    CHECK(render::median_ms_per_pass(whole, false) == Approx(50.0));
+    // Thinned records no longer join into passes: each wave counts alone.
+    CHECK(render::median_ms_per_pass(w, true) == Approx(30.0));
+    CHECK(render::median_ms_per_pass({}, false) == 0.0);
+}
+
+#ifdef WP_CLI_PATH
+
+TEST_CASE("render CLI: a scene larger than the device's memory fails before rendering, naming the buffer",
+          "[render][cli]") {
+    test::TempDir d;
+    {
+        // 2 MiB: the BVH (1.5 MiB for the built-in box's 16,020 triangles) fits, its shading
+        // triangles (16,020 x 48 bytes) do not.
+        ScopedEnv env("WP_DEVICE_MEMORY_LIMIT", "2M");
+        auto r = test::run_render(d.path, "--size 64x48 --spp 1 -o out.exr --profile prof.json");
+        INFO(r.err);
+        CHECK(r.status == 1);
+        CHECK(contains(r.err, "not enough device memory for the shading triangles: 750.9 KiB needed"));
+        CHECK(contains(r.err, "of its 2.0 MiB free"));
+        CHECK(contains(r.err, "WP_DEVICE_MEMORY_LIMIT"));
+        CHECK_FALSE(contains(r.err, "OpenCL error"));
+        CHECK(d.empty_of_images());
+        CHECK_FALSE(fs::exists(d.path / "prof.json"));
+    }
+    {
+        // The scene and a small pool fit 40 MiB, a 2000 x 2000 film (128,000,000 bytes) does not.
+        ScopedEnv env("WP_DEVICE_MEMORY_LIMIT", "40M");
+        auto r = test::run_render(d.path, "--size 2000x2000 --spp 1 -o out.exr");
+        INFO(r.err);
+        CHECK(r.status == 1);
+        CHECK(contains(r.err, "not enough device memory for the film (4000000 pixels): 122.1 MiB needed"));
+        CHECK(d.empty_of_images());
+    }
+    {
+        ScopedEnv env("WP_DEVICE_MAX_ALLOC", "500K");
+        auto r = test::run_render(d.path, "--size 64x48 --spp 1 -o out.exr");
+        INFO(r.err);
+        CHECK(r.status == 1);
+        CHECK(contains(r.err, "buffer too large for the BVH nodes"));
+        CHECK(contains(r.err, "at most 500.0 KiB per buffer"));
+        CHECK(d.empty_of_images());
+    }
+    {
+        ScopedEnv env("WP_DEVICE_MEMORY_LIMIT", "lots");
+        auto r = test::run_render(d.path, "--size 64x48 --spp 1 -o out.exr");
+        CHECK(r.status == 1);
+        CHECK(contains(r.err, "WP_DEVICE_MEMORY_LIMIT: 'lots' is not a byte count"));
+        CHECK(d.empty_of_images());
+    }
+}
+
+TEST_CASE("render CLI: a smaller largest allocation splits the film and shrinks the pool, same image",
+          "[render][cli]") {
+    test::TempDir d;
+    const std::string args = "--size 320x240 --spp 2 --seed 5 --profile ";
+    auto full = test::run_render(d.path, args + "full.json -o full.exr");
+    REQUIRE(full.status == 0);
+    ScopedEnv env("WP_DEVICE_MAX_ALLOC", "1M");
+    auto small = test::run_render(d.path, args + "small.json -o small.exr");
+    INFO(small.err);
+    REQUIRE(small.status == 0);
+    auto jf = nlohmann::json::parse(std::ifstream(d.path / "full.json"));
+    auto js = nlohmann::json::parse(std::ifstream(d.path / "small.json"));
+    // 320 x 240 x 32 bytes = 2.34 MiB of film: three buffers of at most 1 MiB; the pool's
+    // rays (32 bytes) fit 32768 to a buffer.
+    int film_buffers = 0;
+    for (const auto& b : js["memory"]["buffers"])
+        if (b["name"] == "the film") film_buffers = b["count"].get<int>();
+    CHECK(film_buffers == 3);
+    CHECK(js["memory"]["pool_paths"].get<std::size_t>() == 32768u);
+    CHECK(js["memory"]["largest_buffer_bytes"].get<std::uint64_t>() <= 1u << 20);
+    CHECK(jf["memory"]["pool_paths"].get<std::size_t>() == render::PathPool::kDefaultCapacity);
+    // The rays traced, split by kind, add up.
+    CHECK(js["rays_closest"].get<std::uint64_t>() + js["rays_shadow"].get<std::uint64_t>() ==
+          js["rays"].get<std::uint64_t>());
+    CHECK(js["rays"] == jf["rays"]);
+    // Images are the same bits for every pool size and film segmentation.
+    Image a = read_image(d.path / "full.exr"), b = read_image(d.path / "small.exr");
+    CHECK(a.rgb == b.rgb);
+}
+
+#endif
