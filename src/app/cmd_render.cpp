@@ -235,8 +235,9 @@ int run_render(const RenderArgs& a) {
     std::optional<ErrorMetrics> err;
     if (ref) err = compare_images(img, ref->image);
 
-    // The deferred program cache stores (a cold start only).
-    startup.cache_store_ms = ocl::store_deferred_programs();
+    // The deferred program cache stores (a cold start only; up to 2 s on PoCL), skipped
+    // after a Ctrl-C, which asked to finish soon (PoCL's own cache keeps the builds).
+    if (!res.interrupted && interrupt_signal() == 0) startup.cache_store_ms = ocl::store_deferred_programs();
 
     // 6. Report.
     auto counters = wf.counters();

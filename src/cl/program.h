@@ -9,7 +9,7 @@
 // Compiled programs are cached on disk by a hash of (source, options, device, driver):
 // $WP_CACHE_DIR, else $XDG_CACHE_HOME/wavepath, else ~/.cache/wavepath. Set
 // WP_CACHE_DIR=off to disable it. Storing a new binary is not free: on PoCL, reading
-// CL_PROGRAM_BINARIES compiles every kernel of the program for any local size (about 2.3 s
+// CL_PROGRAM_BINARIES compiles every kernel of the program for any local size (1.8–2.3 s
 // for the renderer's six programs, more than their builds); after defer_cache_stores(true)
 // the stores wait for store_deferred_programs(), so that a cold `render` reaches its first
 // frame without them.
