@@ -455,6 +455,57 @@ TEST_CASE("sampling: Owen-scrambled Sobol points are stratified", "[unit][sampli
     CHECK(wp_sobol_owen4(5u, 1u).x != wp_sobol_owen4(5u, 2u).x);
 }
 
+// The unscrambled points against direction numbers built here from their definition (Joe &
+// Kuo 2008: primitive polynomial x^s + a_1 x^(s-1) + ... + 1 with initial m_1..m_s,
+// m_j = 2a_1 m_(j-1) ^ 4a_2 m_(j-2) ^ ... ^ 2^s m_(j-s) ^ m_(j-s); v_j = m_j 2^(32-j)), and
+// the point as the XOR of v_j over the set index bits in Gray-code-free (direct) form.
+TEST_CASE("sampling: Sobol points match the direction numbers' recurrence", "[unit][sampling]") {
+    struct Poly { int s; uint a; std::vector<uint> m; };
+    const Poly polys[3] = {{1, 0u, {1u}}, {2, 1u, {1u, 3u}}, {3, 1u, {1u, 3u, 1u}}};
+    uint v[4][32];
+    for (int j = 0; j < 32; ++j) v[0][j] = 1u << (31 - j);  // van der Corput
+    for (int d = 1; d < 4; ++d) {
+        const Poly& p = polys[d - 1];
+        std::vector<uint> m(32);
+        for (int j = 0; j < 32; ++j) {
+            if (j < p.s) {
+                m[j] = p.m[j];
+            } else {
+                uint x = m[j - p.s] ^ (m[j - p.s] << p.s);
+                for (int k = 1; k < p.s; ++k)
+                    if ((p.a >> (p.s - 1 - k)) & 1u) x ^= m[j - k] << k;
+                m[j] = x;
+            }
+            v[d][j] = m[j] << (31 - j);
+        }
+    }
+    uint32_t state = 12345u;
+    for (int t = 0; t < 2000; ++t) {
+        state = state * 1664525u + 1013904223u;
+        uint index = t < 64 ? uint(t) : state;
+        uint4 got = wp_sobol4(index);
+        uint want[4] = {0u, 0u, 0u, 0u};
+        for (int d = 0; d < 4; ++d)
+            for (int j = 0; j < 32; ++j)
+                if ((index >> j) & 1u) want[d] ^= v[d][j];
+        INFO("index " << index);
+        CHECK(got.x == want[0]);
+        CHECK(got.y == want[1]);
+        CHECK(got.z == want[2]);
+        CHECK(got.w == want[3]);
+        // The folded Owen scramble equals Burley's listing 3 written out: shuffle the index,
+        // then scramble each coordinate, each scramble = reverse(LK(reverse(x))).
+        uint seed = state ^ 0x9e3779b9u;
+        uint i = wp_nested_uniform_scramble(index, seed);
+        uint4 x = wp_sobol4(i);
+        uint4 o = wp_sobol_owen4(index, seed);
+        CHECK(o.x == wp_nested_uniform_scramble(x.x, wp_hash_combine(seed, 0u)));
+        CHECK(o.y == wp_nested_uniform_scramble(x.y, wp_hash_combine(seed, 1u)));
+        CHECK(o.z == wp_nested_uniform_scramble(x.z, wp_hash_combine(seed, 2u)));
+        CHECK(o.w == wp_nested_uniform_scramble(x.w, wp_hash_combine(seed, 3u)));
+    }
+}
+
 // Glass from an OBJ/MTL file (illum 7, Ni), compiled only where used, renders without
 // non-finite values; light inside a glass box still reaches the camera.
 TEST_CASE("sampling: MTL illum 7 becomes glass (eta from Ni) and is compiled only when used",
