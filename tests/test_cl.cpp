@@ -100,3 +100,27 @@ TEST_CASE("programs come from the disk cache the second time", "[kernel][cl]") {
     CHECK_THROWS_AS(b.kernel("no_such_kernel"), Error);
     fs::remove_all(dir);
 }
+
+// A deferred store (render defers them past its first frame) writes nothing until
+// store_deferred_programs(), and the next build then loads the stored binary.
+TEST_CASE("program cache: deferred stores are written by store_deferred_programs", "[kernel][cl]") {
+    fs::path dir = temp_dir("deferred");
+    ScopedEnv cache("WP_CACHE_DIR", (dir / "cache").string());
+    auto files = [&] {
+        std::size_t n = 0;
+        if (fs::exists(dir / "cache"))
+            for (const auto& e : fs::directory_iterator(dir / "cache")) n += e.path().extension() == ".bin";
+        return n;
+    };
+    ocl::defer_cache_stores(true);
+    auto a = ocl::Program::build(test::device(), "utility.cl", "-D WP_TEST_CACHE_KEY=3");
+    ocl::defer_cache_stores(false);
+    CHECK_FALSE(a.from_cache);
+    CHECK(files() == 0);
+    CHECK(ocl::store_deferred_programs() > 0.0);
+    CHECK(files() == 1);
+    CHECK(ocl::store_deferred_programs() == 0.0);  // nothing left
+    auto b = ocl::Program::build(test::device(), "utility.cl", "-D WP_TEST_CACHE_KEY=3");
+    CHECK(b.from_cache);
+    fs::remove_all(dir);
+}

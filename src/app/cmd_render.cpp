@@ -9,6 +9,7 @@
 #include <cstdio>
 #include <limits>
 #include <filesystem>
+#include <future>
 #include <optional>
 #include <memory>
 #include <string>
@@ -20,16 +21,19 @@
 #include "app/render_options.h"
 #include "app/subcommands.h"
 #include "cl/device.h"
+#include "cl/program.h"
 #include "image/image.h"
 #include "image/stats.h"
 #include "render/loop.h"
 #include "render/profile.h"
 #include "render/progress.h"
 #include "render/reference.h"
+#include "render/startup.h"
 #include "render/wavefront.h"
 #include "util/atomic_file.h"
 #include "util/error.h"
 #include "util/host_trace.h"
+#include "util/process_clock.h"
 #include "util/timer.h"
 
 namespace wp::app {
@@ -121,11 +125,25 @@ int run_render(const RenderArgs& a) {
         check_writable(variance_path, "--variance output", true);
     }
 
-    // 3. Scene and device.
+    // 3. Scene and device. The device opens (PoCL's start-up: platform, device, context,
+    // queue; tens of ms) on another thread while the scene loads. New programs' cache stores
+    // wait until after the render (cl/program.h): a cold start reaches its first frame
+    // without them.
+    render::Startup startup;  // the cold-start split (render/startup.h)
+    ocl::defer_cache_stores(true);
+    std::future<ocl::Device> opening = std::async(std::launch::async, [&] {
+        HostSpan span("device");
+        Timer t;
+        ocl::Device d = ocl::Device::open(a.config.device);
+        startup.device_ms = t.ms();
+        return d;
+    });
+    Timer step;
     Scene scene = [&] {
         HostSpan span("load");
         return load_scene(a.scene, a.quiet, &a.edits);
     }();
+    startup.load_ms = step.ms();
     render::RenderSettings s = make_settings(a.config, scene);
     // The scene file's spp and seed, unless given on the command line.
     const int spp = a.spp_given || !scene.render.spp ? a.spp : *scene.render.spp;
@@ -138,11 +156,13 @@ int run_render(const RenderArgs& a) {
     // A reference of the wrong size is an error before any rendering.
     std::optional<render::Reference> ref;
     if (!a.reference.empty()) ref = render::load_reference(a.reference, s.width, s.height);
-    ocl::Device dev = [&] {
-        HostSpan span("device");  // the OpenCL platform and device (PoCL's start-up)
-        return ocl::Device::open(a.config.device);
-    }();
+    step.reset();
+    ocl::Device dev = opening.get();
+    startup.device_wait_ms = step.ms();
     render::Wavefront wf(dev, scene, s);
+    startup.scene_ms = wf.stats().upload_ms;
+    startup.programs_ms = wf.stats().program_ms;
+    startup.programs = wf.program_builds();
     if (!a.quiet) {
         for (const auto& w : wf.scene_warnings()) fmt::print(stderr, "wavepath: warning: {}\n", w);
         std::string app = render::describe_appearance(wf.stats());
@@ -182,6 +202,11 @@ int run_render(const RenderArgs& a) {
         };
     }
     render::LoopResult res = render::render_frames(wf, lo, &progress);
+    startup.first_frame_ms = res.first_frame_ms;
+    startup.first_frame_device_ms = res.first_frame_kernel_ms;
+    startup.first_launch_ms = res.first_frame_ms - res.first_frame_kernel_ms;
+    startup.to_first_frame_ms = double(res.first_frame_done_ns - main_start_ns()) * 1e-6;
+    startup.exec_to_main_ms = exec_to_main_ms();
     const render::Wavefront::RayTotals ray_totals = wf.ray_totals();
     const std::uint64_t rays = ray_totals.closest + ray_totals.shadow;
     progress.finish(res.frames, rays, res.interrupted);
@@ -209,6 +234,10 @@ int run_render(const RenderArgs& a) {
     }
     std::optional<ErrorMetrics> err;
     if (ref) err = compare_images(img, ref->image);
+
+    // The deferred program cache stores (a cold start only; up to 2 s on PoCL), skipped
+    // after a Ctrl-C, which asked to finish soon (PoCL's own cache keeps the builds).
+    if (!res.interrupted && interrupt_signal() == 0) startup.cache_store_ms = ocl::store_deferred_programs();
 
     // 6. Report.
     auto counters = wf.counters();
@@ -239,6 +268,7 @@ int run_render(const RenderArgs& a) {
                        err->max_y);
         if (a.stats) fmt::print("{}", render::format_profile_table(prof));
     }
+    if (a.verbose) fmt::print(stderr, "{}", render::format_startup(startup));
     if (err) {
         std::string w = render::reference_warning(*ref, err->relmse);
         if (!w.empty() && !a.quiet) fmt::print(stderr, "wavepath: warning: {}\n", w);
@@ -258,6 +288,7 @@ int run_render(const RenderArgs& a) {
         j["settings"] = {{"width", s.width}, {"height", s.height}, {"spp_requested", spp},
                          {"spp", res.frames}, {"depth", s.depth}, {"seed", s.seed},
                          {"traversal", render::traversal_name(s.traversal)},
+                         {"kernels", render::kernel_set_name(s.kernels)},
                          {"sampling", render::sampling_name(s.estimator.sampling)},
                          {"glossy", render::glossy_name(s.estimator.glossy)},
                          {"rr_depth", s.estimator.rr_depth},
@@ -274,6 +305,7 @@ int run_render(const RenderArgs& a) {
                           {"max_y", err->max_y}, {"reference_own_relmse", ref->own_relmse}};
         j["memory"] = render::memory_json(wf.memory());
         j["kernel_options"] = wf.options();
+        j["startup"] = render::startup_json(startup);
         j["nonfinite"] = {{"generate", counters[WP_COUNTER_GENERATE_NONFINITE]},
                           {"shade", counters[WP_COUNTER_SHADE_NONFINITE]},
                           {"accumulate", counters[WP_COUNTER_ACCUMULATE_NONFINITE]}};
@@ -321,7 +353,7 @@ Subcommand add_render(CLI::App& app) {
                   ".png/.jpg (8-bit sRGB). Default: render.exr and render.png");
     c->add_option("--profile", args->profile,
                   "Write the kernel profile (device, scene statistics, per-stage, per-spp and per-wave "
-                  "times) as JSON to this file, and a Chrome trace-event file (Perfetto) next to "
+                  "times, the start-up split as in -v) as JSON to this file, and a Chrome trace-event file (Perfetto) next to "
                   "it: FILE.json -> FILE.trace.json");
     c->add_flag("--variance", args->variance,
                 "Also keep the per-pixel sum of squares and write the variance of the mean, "
@@ -350,7 +382,10 @@ Subcommand add_render(CLI::App& app) {
                 "Print the per-stage kernel profile table (device times per stage, ms/spp, "
                 "Mrays/s) after the summary");
     c->add_flag("-v,--verbose", args->verbose,
-                "Print the device, scene statistics and kernel options before rendering");
+                "Print the device, scene statistics and kernel options before rendering, and "
+                "after it the start-up split: ms from main() to the first frame (one sample "
+                "per pixel done) and its steps (load, device, scene, programs, first frame "
+                "and the first launches' compile wait), plus exec to main");
     s.run = [args]() -> int { return run_render(*args); };
     return s;
 }

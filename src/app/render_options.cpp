@@ -69,6 +69,15 @@ void add_config_options(CLI::App* c, ConfigArgs& a) {
                   "image), at most a quarter of the device's memory (212 bytes a path with "
                   "light sampling, 160 without)")
         ->capture_default_str();
+    c->add_option("--kernels", a.kernels,
+                  "Kernel programs: specialised (compiled for what the scene has: its material "
+                  "kinds, emission, normals, textures, normal maps, cut-outs, environment, "
+                  "anisotropy, thin lens) or generic (every stage with every feature switch on, "
+                  "the scene's missing features fed neutral data: the same image in expectation, "
+                  "for measuring what specialisation gains; with emitters and no environment "
+                  "its light sampling spends half its samples on a black environment, so it is "
+                  "noisier)")
+        ->capture_default_str();
 }
 
 render::RenderSettings make_settings(const ConfigArgs& a, const Scene& scene) {
@@ -112,6 +121,9 @@ render::RenderSettings make_settings(const ConfigArgs& a, const Scene& scene) {
     if (a.pool < 0 || a.pool > limits::kMaxPool)
         usage_fail("--pool must be in 0..{} paths (0: automatic; got {})", limits::kMaxPool, a.pool);
     s.pool = static_cast<std::size_t>(a.pool);
+    if (a.kernels != "specialised" && a.kernels != "generic")
+        usage_fail("--kernels '{}': expected specialised or generic", a.kernels);
+    s.kernels = render::parse_kernel_set(a.kernels);
     return s;
 }
 

@@ -29,11 +29,12 @@ struct ConfigArgs {
     std::string sampler = render::Estimator{}.sobol ? "sobol" : "random";       // sobol | random
     int rr_depth = render::Estimator{}.rr_depth;  // Russian roulette from this bounce on; -1 off
     long long pool = 0;                   // paths in flight, 0..limits::kMaxPool; 0: automatic
+    std::string kernels = "specialised";  // specialised | generic (render::KernelSet)
     bool depth_given = false;             // --depth was on the command line (beats the scene's)
 };
 
 // Registers --depth, --size, --device, --traversal, --sampling, --glossy, --sampler,
-// --rr-depth and --pool on `c`.
+// --rr-depth, --pool and --kernels on `c`.
 void add_config_options(CLI::App* c, ConfigArgs& a);
 
 // Validates the options and fills the settings (size from the scene when not given).

@@ -4,6 +4,7 @@
 #include <filesystem>
 #include <fstream>
 #include <map>
+#include <mutex>
 #include <optional>
 #include <regex>
 #include <set>
@@ -84,6 +85,28 @@ std::string build_log(const ::cl::Program& p, const ::cl::Device& d) {
     }
 }
 
+// The binary of a built program into the cache file `path` (best effort: a read-only
+// cache or a driver without binaries is not an error).
+void store_binary(const ::cl::Program& program, const fs::path& path) {
+    try {
+        auto bins = program.getInfo<CL_PROGRAM_BINARIES>();
+        if (bins.size() == 1 && !bins[0].empty()) {
+            std::error_code ec;
+            fs::create_directories(path.parent_path(), ec);
+            write_text_atomically(path, std::string(bins[0].begin(), bins[0].end()));
+        }
+    } catch (const std::exception&) {
+    }
+}
+
+struct DeferredStore {
+    ::cl::Program program;
+    fs::path path;
+};
+std::mutex g_deferred_mutex;
+bool g_defer = false;
+std::vector<DeferredStore> g_deferred;
+
 }  // namespace
 
 std::string assemble_source(const std::string& file) {
@@ -135,21 +158,38 @@ Program Program::build(const Device& dev, const std::string& file, const std::st
         fail("kernel build failed for kernels/{} on '{}' (options: {}):\n{}", file, dev.info.name,
              prog.options, build_log(prog.program, dev.info.device));
     }
-    prog.build_ms = timer.ms();
 
-    // 3. Store the binary for next time (best effort: a read-only cache is not an error).
+    // 3. Store the binary for next time, now or deferred (store_deferred_programs).
     if (dir) {
-        try {
-            auto bins = prog.program.getInfo<CL_PROGRAM_BINARIES>();
-            if (bins.size() == 1 && !bins[0].empty()) {
-                std::error_code ec;
-                fs::create_directories(*dir, ec);
-                write_text_atomically(cached, std::string(bins[0].begin(), bins[0].end()));
+        bool now = true;
+        {
+            std::lock_guard<std::mutex> lock(g_deferred_mutex);
+            if (g_defer) {
+                g_deferred.push_back({prog.program, cached});
+                now = false;
             }
-        } catch (const std::exception&) {
         }
+        if (now) store_binary(prog.program, cached);
     }
+    prog.build_ms = timer.ms();
     return prog;
+}
+
+void defer_cache_stores(bool defer) {
+    std::lock_guard<std::mutex> lock(g_deferred_mutex);
+    g_defer = defer;
+}
+
+double store_deferred_programs() {
+    std::vector<DeferredStore> todo;
+    {
+        std::lock_guard<std::mutex> lock(g_deferred_mutex);
+        todo.swap(g_deferred);
+    }
+    if (todo.empty()) return 0.0;
+    Timer timer;
+    for (const DeferredStore& d : todo) store_binary(d.program, d.path);
+    return timer.ms();
 }
 
 ::cl::Kernel Program::kernel(const std::string& name) const {

@@ -32,6 +32,25 @@ std::string describe_appearance(const SceneStats& st) {
     return s;
 }
 
+namespace {
+
+// The stand-in of the generic build for a scene without an environment: radiance 0 in every
+// direction and all-zero sampling tables, so wp_env_sample draws nothing (pdf 0) and
+// wp_env_pdf is 0 (kernels/shared/envmap.h). With emitting triangles, next-event
+// estimation still picks the environment with probability ½ (wp_env_choice in shade.cl) and
+// a triangle with ½ at twice the weight: the same expectation, more variance.
+EnvUpload black_environment() {
+    Texture t;
+    t.source = "(black environment of the generic kernels)";
+    t.width = 2;
+    t.height = 1;
+    t.texelsf.assign(4 * 2, 0.0f);
+    std::vector<std::string> warnings;
+    return upload_environment(Environment{}, t, warnings);
+}
+
+}  // namespace
+
 DeviceScene DeviceScene::upload(const ocl::Device& dev, const Scene& scene, const KernelConfig& config,
                                 int width, int height, bool jitter) {
     DeviceScene d;
@@ -81,13 +100,27 @@ DeviceScene DeviceScene::upload(const ocl::Device& dev, const Scene& scene, cons
         s.light_prims = ocl::Array<int>::zeros(dev, 0, "a placeholder");
         s.light_pdf_area = ocl::Array<float>::zeros(dev, 0, "a placeholder");
     }
-    // Appearance: only what the kernels were configured for (KernelConfig::from_scene).
+    // Appearance: what the kernels were configured for. A switch on for a feature the
+    // scene lacks (the generic build, KernelConfig::with_every_feature()) reads neutral data
+    // that leaves every estimate as it was:
+    //   normals      per triangle, zero where the scene has none: the kernels shade with the
+    //                face normal (wp_interpolated_normal), whose terminator factor is 1 (the
+    //                bent-normal guard still tilts it for non-diffuse kinds seen within
+    //                cos θ < 1e-3 of grazing: shading.h);
+    //   uvs          per triangle, (0, 0) without uvs; every material's texture slots -1 and
+    //                alpha cut-off 0 (not masked): textures and the alpha test read nothing
+    //                more, and anisotropy reads uvs only where α_u != α_v;
+    //   tangents     read only where a material has a normal map (slot >= 0): uploaded only
+    //                when one has;
+    //   environment  a black one (black_environment()).
+    const KernelConfig has = KernelConfig::from_scene(scene, config.estimator);
     AppearanceNeeds needs;
     needs.normals = config.normals;
     needs.uvs = config.textures || config.alpha_mask || config.anisotropic;
-    needs.tangents = config.normal_maps;
-    needs.env = config.env;
+    needs.tangents = config.normal_maps && has.normal_maps;
+    needs.env = config.env && has.env;
     AppearanceUpload app = upload_appearance(scene, needs);
+    if (config.env && !app.env) app.env = black_environment();
     s.tri_normals = ocl::Array<TriNormals>::upload(dev, app.normals, "the shading normals");
     s.tri_tangents = ocl::Array<TriTangents>::upload(dev, app.tangents, "the tangents");
     TextureArrays& t = s.tex;

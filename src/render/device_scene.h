@@ -3,7 +3,10 @@
 //
 // Built once per render from a host Scene (scene/upload and bvh/flatten convert the
 // types); the light table is uploaded only when the kernels sample lights (KernelConfig::
-// nee()), else its arrays are 4-byte placeholders.
+// nee()), else its arrays are 4-byte placeholders. The appearance arrays follow the
+// KernelConfig: where it models a feature the scene lacks (--kernels generic) they hold
+// neutral data (zero normals, (0, 0) uvs, no texture slots, a black environment) that
+// leaves the image's expectation unchanged (DeviceScene::upload).
 #pragma once
 
 #include <cstddef>

@@ -34,6 +34,24 @@ GlossyModel parse_glossy(const std::string& s) {
     fail("--glossy '{}': expected phong or ggx", s);
 }
 
+const char* kernel_set_name(KernelSet k) {
+    return k == KernelSet::Generic ? "generic" : "specialised";
+}
+
+KernelSet parse_kernel_set(const std::string& s) {
+    if (s == "specialised") return KernelSet::Specialised;
+    if (s == "generic") return KernelSet::Generic;
+    fail("--kernels '{}': expected specialised or generic", s);
+}
+
+KernelConfig KernelConfig::with_every_feature() const {
+    KernelConfig c = *this;
+    c.kinds.set();
+    c.emission = true;
+    c.normals = c.textures = c.normal_maps = c.alpha_mask = c.env = c.lens = c.anisotropic = true;
+    return c;
+}
+
 KernelConfig KernelConfig::from_scene(const Scene& scene, const Estimator& estimator) {
     KernelConfig c;
     c.estimator = estimator;

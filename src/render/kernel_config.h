@@ -6,6 +6,12 @@
 // kinds, and light sampling for scenes without emitters or strategies without it, is not
 // compiled, and a stage is not rebuilt for switches it does not read. The option strings
 // are part of the program cache key (cl/program.h).
+//
+// `render --kernels generic` builds every stage with every feature switch on instead
+// (KernelConfig::with_every_feature()): one program set that models everything, the
+// baseline against which the specialised kernels are measured (docs/performance.md, "Model
+// only what the scene needs"). The scene then uploads neutral data for the features it
+// lacks (render/device_scene.h).
 #pragma once
 
 #include <bitset>
@@ -49,6 +55,15 @@ struct Estimator {
     static Estimator original() { return {Sampling::Uniform, GlossyModel::Phong, false, -1}; }
 };
 
+// --kernels: what the programs model.
+enum class KernelSet : int {
+    Specialised,  // only what the scene needs (KernelConfig::from_scene): the default
+    Generic,      // every feature switch on (KernelConfig::with_every_feature())
+};
+const char* kernel_set_name(KernelSet k);  // "specialised" / "generic"
+// Parse "specialised|generic"; throws wp::Error naming --kernels.
+KernelSet parse_kernel_set(const std::string& s);
+
 struct KernelConfig {
     // The material kinds some material uses (bit i: MaterialKind i), WP_HAVE_<KIND>.
     std::bitset<kMaterialKindCount> kinds = std::bitset<kMaterialKindCount>().set();
@@ -78,6 +93,12 @@ struct KernelConfig {
     // The material kinds, emission and appearance features the scene has; the given
     // estimator.
     static KernelConfig from_scene(const Scene& scene, const Estimator& estimator = {});
+    // This configuration with every feature switch on (the generic build): all material
+    // kinds, emission, shading normals, textures, normal maps, alpha cut-outs, the
+    // environment, anisotropy and the thin lens. The estimator and the debug switches stay;
+    // light sampling follows the estimator alone (env = true makes nee() true for nee and
+    // mis). The scene must then supply neutral data for what it lacks (DeviceScene::upload).
+    KernelConfig with_every_feature() const;
 
     // Option slices, every switch a stage reads explicit:
     std::string generate_options() const;    // sampler, thin lens, injection

@@ -2,9 +2,21 @@
 
 #include <algorithm>
 
+#include "util/host_trace.h"
 #include "util/timer.h"
 
 namespace wp::render {
+
+namespace {
+
+// Device time of every launch the profiler has folded in so far.
+double kernel_ms(const ocl::Profiler& p) {
+    double ms = 0.0;
+    for (const auto& t : p.totals()) ms += t.total_ms;
+    return ms;
+}
+
+}  // namespace
 
 LoopResult render_frames(Wavefront& wf, const LoopOptions& options, Progress* progress) {
     LoopResult res;
@@ -13,6 +25,7 @@ LoopResult render_frames(Wavefront& wf, const LoopOptions& options, Progress* pr
     auto render_s = [&] { return timer.seconds() - paused_s; };
     const int start = wf.frames();
     const int per_wave = std::max(1, wf.passes_per_wave());
+    const double kernel_ms_before = kernel_ms(wf.profiler());
     while (wf.frames() - start < options.spp) {
         const int done = wf.frames() - start;  // before this step
         const int k = std::min({per_wave, std::max(1, done), options.spp - done});
@@ -34,6 +47,11 @@ LoopResult render_frames(Wavefront& wf, const LoopOptions& options, Progress* pr
         // The profile keeps a bounded summary: fold the finished launches into it (this waits
         // for the step, so its time below is the step's).
         wf.profiler().resolve();
+        if (res.first_frame_done_ns == 0) {  // the first step: one sample per pixel
+            res.first_frame_done_ns = steady_ns();
+            res.first_frame_ms = timer.ms();
+            res.first_frame_kernel_ms = kernel_ms(wf.profiler()) - kernel_ms_before;
+        }
         if (progress) progress->step(k, render_s() - step_start);
         if (progress && progress->due()) progress->update(wf.frames(), wf.rays_traced());
         // A stop request (Ctrl-C): the step just enqueued completes, so the film holds whole

@@ -18,6 +18,7 @@
 // error-against-time curves are not bent by their own measurement.
 #pragma once
 
+#include <cstdint>
 #include <functional>
 
 #include "render/progress.h"
@@ -43,6 +44,12 @@ struct LoopResult {
     double render_s = 0.0;  // wall time less the time spent in checkpoints
     bool stopped_by_time = false;
     bool interrupted = false;  // should_stop said so before --spp was reached
+    // The first step (1 sample per pixel: the first frame): its wall time from the loop's
+    // start to its completion on the device, the device time of its launches, and when it
+    // was done (steady_ns(), for the cold-start figures of render/startup.h).
+    double first_frame_ms = 0.0;
+    double first_frame_kernel_ms = 0.0;
+    std::uint64_t first_frame_done_ns = 0;
 };
 
 LoopResult render_frames(Wavefront& wf, const LoopOptions& options, Progress* progress);

@@ -28,6 +28,7 @@ constexpr std::size_t kSmallBuffersBytes = std::size_t(64) << 10;
 
 KernelConfig make_config(const Scene& scene, const RenderSettings& s) {
     KernelConfig c = KernelConfig::from_scene(scene, s.estimator);
+    if (s.kernels == KernelSet::Generic) c = c.with_every_feature();
     c.inject_nan = s.inject_nan;
     c.inject_period = s.inject_period;
     return c;
@@ -69,6 +70,14 @@ Wavefront::Wavefront(ocl::Device& dev, const Scene& scene, const RenderSettings&
     accumulate_ = AccumulateStage(dev, config_, settings.variance, &profiler_);
     scene_.stats.program_ms = prog_timer.ms();
     dev.queue.finish();
+}
+
+std::vector<StartupProgram> Wavefront::program_builds() const {
+    std::vector<StartupProgram> v;
+    for (const ocl::Program* p : {&queues_.program(), &generate_.program(), &intersect_.program(),
+                                  &shade_.program(), &shadow_.program(), &accumulate_.program()})
+        if (!p->file.empty()) v.push_back({p->file, p->build_ms, p->from_cache});
+    return v;
 }
 
 std::size_t Wavefront::film_bytes() const {

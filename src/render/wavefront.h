@@ -44,6 +44,7 @@
 #include "render/stages/intersect.h"
 #include "render/stages/shade.h"
 #include "render/stages/shadow.h"
+#include "render/startup.h"
 #include "scene/scene.h"
 #include "shared/types.h"
 #include "util/limits.h"
@@ -59,6 +60,9 @@ struct RenderSettings {
     bool variance = false;    // also keep the per-pixel sum of squares (moments())
     Traversal traversal = Traversal::Stackless;
     Estimator estimator;      // --sampling, --glossy, --sampler, --rr-depth
+    // --kernels: the scene-specialised programs (the default) or the generic build with
+    // every feature switch on (KernelConfig::with_every_feature()).
+    KernelSet kernels = KernelSet::Specialised;
     // Debug (render --debug-nan): see KernelConfig::inject_nan.
     int inject_nan = 0;
     int inject_period = 97;
@@ -97,6 +101,9 @@ class Wavefront {
     const SceneStats& stats() const { return scene_.stats; }
     // Warnings of the scene's upload (e.g. an environment map that is not 2:1).
     const std::vector<std::string>& scene_warnings() const { return scene_.warnings; }
+    // Each stage's program (build or cache load time), in build order: queue, generate,
+    // intersect, shade, shadow (with NEE), accumulate.
+    std::vector<StartupProgram> program_builds() const;
     ocl::Profiler& profiler() { return profiler_; }
     ocl::Device& device() { return dev_; }
     std::size_t pool_capacity() const { return pool_.capacity(); }
