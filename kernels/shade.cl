@@ -91,12 +91,16 @@ typedef struct Appearance {
     float cone_spread;   // growth of the ray cone's width per unit length
 } Appearance;
 
-// Probability that next-event estimation samples the environment rather than a triangle.
-WP_FN float wp_env_choice(int light_count) {
+// Probability that next-event estimation samples the environment rather than a triangle:
+// none for a black environment (scale 0: an --env-scale 0, or the generic kernels' stand-in
+// for a scene without one) when there are triangles to sample.
+WP_FN float wp_env_choice(int light_count, EnvData env) {
 #if WP_HAVE_ENV
-    return light_count > 0 ? 0.5f : 1.0f;
+    if (light_count == 0) return 1.0f;
+    return env.scale.x > 0.0f || env.scale.y > 0.0f || env.scale.z > 0.0f ? 0.5f : 0.0f;
 #else
     (void)light_count;
+    (void)env;
     return 0.0f;
 #endif
 }
@@ -198,7 +202,7 @@ WP_FN int wp_shade_path(Ray ray, PathState path, Hit hit, WP_GLOBAL const Triang
 #if WP_HAVE_NEE
             if (bounce > 0 && !arrived_specular) {
 #if WP_SAMPLING == WP_SAMPLING_MIS
-                float p_env = wp_env_choice(lights.count) * wp_env_pdf(app.env, dn_miss);
+                float p_env = wp_env_choice(lights.count, app.env.data) * wp_env_pdf(app.env, dn_miss);
                 w = wp_power_heuristic(path.throughput.w, p_env);
 #else
                 w = 0.0f;  // NEE only: light sampling alone counts the environment
@@ -236,7 +240,7 @@ WP_FN int wp_shade_path(Ray ray, PathState path, Hit hit, WP_GLOBAL const Triang
     if (front && wp_max_component(wp_xyz(m.emission)) > 0.0f) {
         float w = 1.0f;
 #if WP_HAVE_NEE
-        float pdf_area = lights.pdf_area[hit.prim] * (1.0f - wp_env_choice(lights.count));
+        float pdf_area = lights.pdf_area[hit.prim] * (1.0f - wp_env_choice(lights.count, app.env.data));
         if (bounce > 0 && !arrived_specular && pdf_area > 0.0f) {
 #if WP_SAMPLING == WP_SAMPLING_MIS
             // Light density of this direction over solid angle at the previous vertex.
@@ -304,7 +308,7 @@ WP_FN int wp_shade_path(Ray ray, PathState path, Hit hit, WP_GLOBAL const Triang
     // radiance when it is unoccluded.
     if (!wp_material_is_specular(m) && (lights.count > 0 || WP_HAVE_ENV)) {
         float4 ul = wp_rng4(seed, pixel, sample, (uint)bounce, WP_RNG_LIGHT);
-        float p_env = wp_env_choice(lights.count);
+        float p_env = wp_env_choice(lights.count, app.env.data);
         float3 wi;
         int lp = -1;  // the light triangle (-1: the environment)
         // The light point (triangle lights): the shadow ray's end is computed only for a

@@ -36,9 +36,9 @@ namespace {
 
 // The stand-in of the generic build for a scene without an environment: radiance 0 in every
 // direction and all-zero sampling tables, so wp_env_sample draws nothing (pdf 0) and
-// wp_env_pdf is 0 (kernels/shared/envmap.h). With emitting triangles, next-event
-// estimation still picks the environment with probability ½ (wp_env_choice in shade.cl) and
-// a triangle with ½ at twice the weight: the same expectation, more variance.
+// wp_env_pdf is 0 (kernels/shared/envmap.h). Its scale is 0, so with emitting triangles
+// next-event estimation never picks it (wp_env_choice in shade.cl): the same estimator as
+// the specialised kernels.
 EnvUpload black_environment() {
     Texture t;
     t.source = "(black environment of the generic kernels)";
