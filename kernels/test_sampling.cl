@@ -41,3 +41,12 @@ WP_KERNEL void probe_light_sample(WP_GLOBAL const float* light_cdf, WP_GLOBAL co
     light[i] = k;
     point[i] = make_float4(b.x, b.y, light_pdf_area[light_prims[k]], 0.0f);
 }
+
+// wp_rng4 of (seed, pixel i, sample 3 i + 1, bounce i % 7, group i % 5) as raw bits: the
+// device's vector Sobol path against the host's scalar one (tests/test_sampling.cpp).
+WP_KERNEL void probe_rng4(uint seed, int n, WP_GLOBAL uint4* out) {
+    int i = wp_global_id();
+    if (i >= n) return;
+    float4 u = wp_rng4(seed, (uint)i, 3u * (uint)i + 1u, (uint)(i % 7), (uint)(i % 5));
+    out[i] = make_uint4(as_uint(u.x), as_uint(u.y), as_uint(u.z), as_uint(u.w));
+}

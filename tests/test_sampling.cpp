@@ -18,6 +18,8 @@
 #include <string>
 #include <vector>
 
+#include <cstring>
+
 #include <glm/glm.hpp>
 
 // The host copy of the shared code, compiled with the default estimator (MIS, GGX). The
@@ -27,6 +29,7 @@
 #define WP_GLOSSY_MODEL 1
 #include "shared/bsdf.h"
 #include "shared/lights.h"
+#include "shared/rng.h"
 #include "shared/sobol.h"
 
 #include "cl/profiler.h"
@@ -473,6 +476,30 @@ TEST_CASE("sampling: sincos of 2 pi u is within 2 ulp-scale error of double", "[
         wp_sincos_2pi(0.25f * float(q), &s, &c);
         CHECK(std::abs(s - quarter[q][0]) == 0.0f);
         CHECK(c == quarter[q][1]);
+    }
+}
+
+// The device's Sobol numbers (128-bit vector code in OpenCL) equal the host's scalar
+// spelling of the same steps, bit for bit.
+TEST_CASE("sampling: Sobol numbers on the device equal the host's", "[kernel][sampling]") {
+    auto& dev = test::device();
+    static ocl::Program prog = ocl::Program::build(dev, "test_sampling.cl", "-D WP_SAMPLER=1");
+    ocl::Kernel k(prog, "probe_rng4", "probe.rng4");
+    const int n = 4096;
+    for (cl_uint seed : {0u, 7u, 0xfeedbeefu}) {
+        cl::Buffer out(dev.context, CL_MEM_READ_WRITE, n * sizeof(uint4));
+        k.launch({&dev.queue}, n, seed, n, out);
+        std::vector<uint4> got(n);
+        dev.queue.enqueueReadBuffer(out, CL_TRUE, 0, n * sizeof(uint4), got.data());
+        int bad = 0;
+        for (int i = 0; i < n; ++i) {
+            float4 w = wp_rng4(seed, uint(i), 3u * uint(i) + 1u, uint(i % 7), uint(i % 5));
+            uint4 b;
+            std::memcpy(&b, &w, sizeof b);
+            bad += got[i].x != b.x || got[i].y != b.y || got[i].z != b.z || got[i].w != b.w;
+        }
+        INFO("seed " << seed);
+        CHECK(bad == 0);
     }
 }
 

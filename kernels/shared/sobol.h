@@ -165,6 +165,12 @@ WP_FN uint wp_reverse_bits(uint x) {
 // The four coordinates of Sobol point reverse(j), each bit-reversed: eight table rows, one
 // per nibble of j (32 bits of any index cost the same: the Owen-scrambled index uses them all).
 WP_FN uint4 wp_sobol4_reversed(uint j) {
+#if defined(__OPENCL_VERSION__)
+    // One 128-bit XOR per nibble (the host and CUDA spell the same four lanes out).
+    uint4 x = (uint4)(0u);
+    for (int k = 0; k < 8; ++k) x ^= vload4(16 * k + (int)((j >> (4 * k)) & 15u), &wp_sobol_nibbles[0][0]);
+    return x;
+#else
     uint x0 = 0u, x1 = 0u, x2 = 0u, x3 = 0u;
     for (int k = 0; k < 8; ++k) {
         uint r = 16u * (uint)k + ((j >> (4 * k)) & 15u);
@@ -174,6 +180,7 @@ WP_FN uint4 wp_sobol4_reversed(uint j) {
         x3 ^= wp_sobol_nibbles[r][3];
     }
     return make_uint4(x0, x1, x2, x3);
+#endif
 }
 
 WP_FN uint wp_laine_karras_permutation(uint x, uint seed) {
@@ -206,10 +213,26 @@ WP_FN uint4 wp_sobol4(uint index) {
 // fold into the table (wp_sobol4_reversed): five bit reversals a call instead of ten.
 WP_FN uint4 wp_sobol_owen4(uint index, uint seed) {
     uint4 r = wp_sobol4_reversed(wp_laine_karras_permutation(wp_reverse_bits(index), seed));
+#if defined(__OPENCL_VERSION__)
+    // The four scrambles as 128-bit vector operations (PoCL does not combine the scalar
+    // chains by itself): the same steps as wp_laine_karras_permutation and wp_reverse_bits.
+    uint4 x = r + (uint4)(wp_hash_combine(seed, 0u), wp_hash_combine(seed, 1u),
+                          wp_hash_combine(seed, 2u), wp_hash_combine(seed, 3u));
+    x ^= x * 0x6c50b47cu;
+    x ^= x * 0xb82f1e52u;
+    x ^= x * 0xc7afe638u;
+    x ^= x * 0x8d22f6e6u;
+    x = ((x >> 1) & 0x55555555u) | ((x & 0x55555555u) << 1);
+    x = ((x >> 2) & 0x33333333u) | ((x & 0x33333333u) << 2);
+    x = ((x >> 4) & 0x0f0f0f0fu) | ((x & 0x0f0f0f0fu) << 4);
+    x = ((x >> 8) & 0x00ff00ffu) | ((x & 0x00ff00ffu) << 8);
+    return (x >> 16) | (x << 16);
+#else
     return make_uint4(wp_reverse_bits(wp_laine_karras_permutation(r.x, wp_hash_combine(seed, 0u))),
                       wp_reverse_bits(wp_laine_karras_permutation(r.y, wp_hash_combine(seed, 1u))),
                       wp_reverse_bits(wp_laine_karras_permutation(r.z, wp_hash_combine(seed, 2u))),
                       wp_reverse_bits(wp_laine_karras_permutation(r.w, wp_hash_combine(seed, 3u))));
+#endif
 }
 
 WP_NAMESPACE_END
