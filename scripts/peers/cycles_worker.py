@@ -42,16 +42,11 @@ import re
 import sys
 import tempfile
 import time
-import traceback
 
 import bpy
 
-MARK = "@@PEER@@ "
-
-
-def reply(obj):
-    sys.stdout.write(MARK + json.dumps(obj) + "\n")
-    sys.stdout.flush()
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from worker_protocol import reply, serve  # noqa: E402
 
 
 # --- geometry ------------------------------------------------------------------------------
@@ -323,23 +318,8 @@ def main():
     argv = sys.argv[sys.argv.index("--") + 1:] if "--" in sys.argv else []
     threads = int(argv[0]) if argv else 2
     reply({"ok": True, "blender": bpy.app.version_string, "threads": threads})
-    for line in sys.stdin:
-        if not line.strip():
-            continue
-        cmd = json.loads(line)
-        try:
-            if cmd["cmd"] == "quit":
-                reply({"ok": True})
-                return
-            if cmd["cmd"] == "load":
-                reply(load(cmd["scene"], threads))
-            elif cmd["cmd"] == "render":
-                reply(render(cmd["spp"], cmd["seed"], cmd["out"]))
-            else:
-                reply({"ok": False, "error": f"unknown command {cmd['cmd']!r}"})
-        except Exception as e:  # noqa: BLE001 — reported to the driver
-            reply({"ok": False, "error": f"{type(e).__name__}: {e}",
-                   "trace": traceback.format_exc()})
+    serve({"load": lambda cmd: load(cmd["scene"], threads),
+           "render": lambda cmd: render(cmd["spp"], cmd["seed"], cmd["out"])})
 
 
 main()

@@ -10,17 +10,12 @@ imports mitsuba. Reads one JSON command a line on stdin, answers each with one l
   {"cmd": "quit"}
 Errors answer {"ok": false, "error": "..."}.
 """
-import json
+import os
 import sys
 import time
-import traceback
 
-MARK = "@@PEER@@ "
-
-
-def reply(obj):
-    sys.stdout.write(MARK + json.dumps(obj) + "\n")
-    sys.stdout.flush()
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from worker_protocol import reply, serve  # noqa: E402
 
 
 def main():
@@ -38,29 +33,21 @@ def main():
         return
     reply({"ok": True, "variant": variant, "mitsuba": mi.__version__, "threads": threads})
     scene = None
-    for line in sys.stdin:
-        if not line.strip():
-            continue
-        cmd = json.loads(line)
-        try:
-            if cmd["cmd"] == "quit":
-                reply({"ok": True})
-                return
-            if cmd["cmd"] == "load":
-                scene = mi.load_file(cmd["xml"])
-                reply({"ok": True})
-            elif cmd["cmd"] == "render":
-                t = time.perf_counter()
-                img = mi.render(scene, spp=int(cmd["spp"]), seed=int(cmd["seed"]))
-                px = np.array(img, dtype=np.float32)
-                render_s = time.perf_counter() - t
-                np.save(cmd["out"], px[..., :3])
-                reply({"ok": True, "render_s": render_s})
-            else:
-                reply({"ok": False, "error": f"unknown command {cmd['cmd']!r}"})
-        except Exception as e:  # noqa: BLE001
-            reply({"ok": False, "error": f"{type(e).__name__}: {e}",
-                   "trace": traceback.format_exc()})
+
+    def load(cmd):
+        nonlocal scene
+        scene = mi.load_file(cmd["xml"])
+        return {"ok": True}
+
+    def render(cmd):
+        t = time.perf_counter()
+        img = mi.render(scene, spp=int(cmd["spp"]), seed=int(cmd["seed"]))
+        px = np.array(img, dtype=np.float32)
+        render_s = time.perf_counter() - t
+        np.save(cmd["out"], px[..., :3])
+        return {"ok": True, "render_s": render_s}
+
+    serve({"load": load, "render": render})
 
 
 if __name__ == "__main__":
