@@ -73,10 +73,9 @@ void add_config_options(CLI::App* c, ConfigArgs& a) {
                   "Kernel programs: specialised (compiled for what the scene has: its material "
                   "kinds, emission, normals, textures, normal maps, cut-outs, environment, "
                   "anisotropy, thin lens) or generic (every stage with every feature switch on, "
-                  "the scene's missing features fed neutral data: the same image in expectation, "
-                  "for measuring what specialisation gains; with emitters and no environment "
-                  "its light sampling spends half its samples on a black environment, so it is "
-                  "noisier)")
+                  "the scene's missing features fed neutral data (a black environment that light "
+                  "sampling never picks): the same estimator and image in expectation, for "
+                  "measuring what specialisation gains)")
         ->capture_default_str();
 }
 
