@@ -46,7 +46,9 @@ EnvUpload black_environment() {
     t.height = 1;
     t.texelsf.assign(4 * 2, 0.0f);
     std::vector<std::string> warnings;
-    return upload_environment(Environment{}, t, warnings);
+    Environment black;
+    black.scale = 0.0f;  // light sampling never picks it while triangles emit (wp_env_choice)
+    return upload_environment(black, t, warnings);
 }
 
 }  // namespace
