@@ -50,3 +50,12 @@ WP_KERNEL void probe_rng4(uint seed, int n, WP_GLOBAL uint4* out) {
     float4 u = wp_rng4(seed, (uint)i, 3u * (uint)i + 1u, (uint)(i % 7), (uint)(i % 5));
     out[i] = make_uint4(as_uint(u.x), as_uint(u.y), as_uint(u.z), as_uint(u.w));
 }
+
+// wp_sincos_2pi(i / n) as raw bits (tests/test_sampling.cpp: the same bits as the host's).
+WP_KERNEL void probe_sincos(int n, WP_GLOBAL uint2* out) {
+    int i = wp_global_id();
+    if (i > n) return;
+    float s, c;
+    wp_sincos_2pi((float)i / (float)n, &s, &c);
+    out[i] = (uint2)(as_uint(s), as_uint(c));
+}

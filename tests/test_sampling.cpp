@@ -503,6 +503,31 @@ TEST_CASE("sampling: Sobol numbers on the device equal the host's", "[kernel][sa
     }
 }
 
+// wp_sincos_2pi on the device gives the host's bits (no contraction, no library call).
+TEST_CASE("sampling: sincos of 2 pi u on the device equals the host's", "[kernel][sampling]") {
+    auto& dev = test::device();
+    ocl::Kernel k(probe_program(), "probe_sincos", "probe.sincos");
+    const int n = 1 << 16;
+    cl::Buffer out(dev.context, CL_MEM_READ_WRITE, (n + 1) * sizeof(uint2));
+    k.launch({&dev.queue}, n + 1, n, out);
+    std::vector<uint2> got(n + 1);
+    dev.queue.enqueueReadBuffer(out, CL_TRUE, 0, (n + 1) * sizeof(uint2), got.data());
+    int bad = 0, first = -1;
+    for (int i = 0; i <= n; ++i) {
+        float s, c;
+        wp_sincos_2pi(float(i) / float(n), &s, &c);
+        uint bs, bc;
+        std::memcpy(&bs, &s, 4);
+        std::memcpy(&bc, &c, 4);
+        if (got[i].x != bs || got[i].y != bc) {
+            bad += 1;
+            if (first < 0) first = i;
+        }
+    }
+    INFO("first differing u = " << first << " / " << n);
+    CHECK(bad == 0);
+}
+
 // The unscrambled points against direction numbers built here from their definition (Joe &
 // Kuo 2008: primitive polynomial x^s + a_1 x^(s-1) + ... + 1 with initial m_1..m_s,
 // m_j = 2a_1 m_(j-1) ^ 4a_2 m_(j-2) ^ ... ^ 2^s m_(j-s) ^ m_(j-s); v_j = m_j 2^(32-j)), and

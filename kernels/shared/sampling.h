@@ -60,12 +60,12 @@ WP_FN void wp_sincos_2pi(float u, float* s, float* c) {
     float z = x * x;
     float sx = x + x * z * (-1.6666654611e-1f + z * (8.3321608736e-3f + z * -1.9515295891e-4f));
     float cx = 1.0f - 0.5f * z + z * z * (4.166664568298827e-2f + z * (-1.388731625493765e-3f + z * 2.443315711809948e-5f));
-    switch (q & 3) {
-        case 0: *s = sx, *c = cx; break;
-        case 1: *s = cx, *c = -sx; break;
-        case 2: *s = -sx, *c = -cx; break;
-        default: *s = -cx, *c = sx; break;
-    }
+    // Quadrant q (0..4; 4 is 0): sin = ±sx or ±cx, cos = ±cx or ∓sx. Selects, not a
+    // switch on q & 3: under Oclgrind 21.10 the switch gave other bits for q = 4, while
+    // PoCL and the host agreed (the render-level Oclgrind check compares bits).
+    float a = (q & 1) ? cx : sx, b = (q & 1) ? sx : cx;
+    *s = (q & 2) ? -a : a;
+    *c = ((q + 1) & 2) ? -b : b;
 }
 
 // Unit direction with polar cosine cos_theta and azimuth 2π u around +z.
