@@ -57,5 +57,5 @@ WP_KERNEL void probe_sincos(int n, WP_GLOBAL uint2* out) {
     if (i > n) return;
     float s, c;
     wp_sincos_2pi((float)i / (float)n, &s, &c);
-    out[i] = (uint2)(as_uint(s), as_uint(c));
+    out[i] = make_uint2(as_uint(s), as_uint(c));
 }

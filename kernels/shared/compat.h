@@ -40,6 +40,7 @@
 #define make_float4(a, b, c, d) ((float4)((a), (b), (c), (d)))
 #define make_int4(a, b, c, d) ((int4)((a), (b), (c), (d)))
 #define make_uint4(a, b, c, d) ((uint4)((a), (b), (c), (d)))
+#define make_uint2(a, b) ((uint2)((a), (b)))
 #define make_float2(a, b) ((float2)((a), (b)))
 
 #define wp_global_id() ((int)get_global_id(0))
@@ -145,6 +146,7 @@ inline float3 make_float3(float a, float b, float c) { return {a, b, c}; }
 inline float4 make_float4(float a, float b, float c, float d) { return {a, b, c, d}; }
 inline int4 make_int4(int a, int b, int c, int d) { return {a, b, c, d}; }
 inline uint4 make_uint4(uint a, uint b, uint c, uint d) { return {a, b, c, d}; }
+inline uint2 make_uint2(uint a, uint b) { return {a, b}; }
 
 // Work-item functions for kernels compiled as host C++: one work-item (id 0) unless a host
 // driver sets wp::host_item (each thread its own).
