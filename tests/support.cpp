@@ -6,6 +6,8 @@
 #include <regex>
 #include <thread>
 
+#include "render/loop.h"
+#include "render/wavefront.h"
 #include "shared/triangle.h"
 
 namespace wp::test {
@@ -161,6 +163,25 @@ std::string base64(const std::string& in) {
         out += {t[(v >> 18) & 63], t[(v >> 12) & 63], t[(v >> 6) & 63], '='};
     }
     return out;
+}
+
+SmokeRender smoke_render(const Scene& s, int spp, int depth) {
+    render::RenderSettings rs;
+    rs.width = 32;
+    rs.height = std::max(1, 32 * s.camera.height / s.camera.width);
+    rs.depth = depth;
+    rs.seed = 1;
+    render::Wavefront wf(device(), s, rs);
+    render::LoopOptions lo;
+    lo.spp = spp;
+    render::render_frames(wf, lo, nullptr);
+    SmokeRender r;
+    for (float x : wf.resolve().rgb) {
+        r.nonfinite += !std::isfinite(x);
+        r.sum += x;
+    }
+    for (int c : wf.counters()) r.counters += c;
+    return r;
 }
 
 }  // namespace wp::test

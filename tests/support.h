@@ -59,6 +59,16 @@ std::map<std::string, long> readme_counts(const std::filesystem::path& readme);
 std::vector<std::filesystem::path> shared_scene_files(const std::filesystem::path& root,
                                                       const std::string& file);
 
+// A small render of a loaded scene (32 pixels wide, the scene's aspect, seed 1): how many
+// values of the image are not finite, the renderer's non-finite counters summed, and the
+// sum of the image (> 0 when light reaches the camera).
+struct SmokeRender {
+    int nonfinite = 0;
+    long counters = 0;
+    double sum = 0.0;
+};
+SmokeRender smoke_render(const Scene& s, int spp, int depth);
+
 // Standard base64 with padding (RFC 4648), for data URIs in glTF tests.
 std::string base64(const std::string& in);
 // Appends the bytes of v to s (binary buffers of glTF tests).
