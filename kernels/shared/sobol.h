@@ -154,12 +154,25 @@ WP_CONSTANT_TABLE uint wp_sobol_nibbles[128][4] = {
     {0x00000007u, 0x00000007u, 0x00000004u, 0x00000006u},
     {0x0000000fu, 0x00000008u, 0x0000000du, 0x0000000cu}};
 
+// The steps of a 32-bit reversal and of the Laine-Karras permutation, written once for a
+// uint and, in OpenCL, a uint4 (wp_sobol_owen4 scrambles its four coordinates as one
+// vector: PoCL does not combine the scalar chains by itself).
+#define WP_REVERSE_BITS_STEPS(x)                                   \
+    x = ((x >> 1) & 0x55555555u) | ((x & 0x55555555u) << 1);      \
+    x = ((x >> 2) & 0x33333333u) | ((x & 0x33333333u) << 2);      \
+    x = ((x >> 4) & 0x0f0f0f0fu) | ((x & 0x0f0f0f0fu) << 4);      \
+    x = ((x >> 8) & 0x00ff00ffu) | ((x & 0x00ff00ffu) << 8);      \
+    x = (x >> 16) | (x << 16)
+#define WP_LAINE_KARRAS_STEPS(x, seed) \
+    x += seed;                         \
+    x ^= x * 0x6c50b47cu;              \
+    x ^= x * 0xb82f1e52u;              \
+    x ^= x * 0xc7afe638u;              \
+    x ^= x * 0x8d22f6e6u
+
 WP_FN uint wp_reverse_bits(uint x) {
-    x = ((x >> 1) & 0x55555555u) | ((x & 0x55555555u) << 1);
-    x = ((x >> 2) & 0x33333333u) | ((x & 0x33333333u) << 2);
-    x = ((x >> 4) & 0x0f0f0f0fu) | ((x & 0x0f0f0f0fu) << 4);
-    x = ((x >> 8) & 0x00ff00ffu) | ((x & 0x00ff00ffu) << 8);
-    return (x >> 16) | (x << 16);
+    WP_REVERSE_BITS_STEPS(x);
+    return x;
 }
 
 // The four coordinates of Sobol point reverse(j), each bit-reversed: eight table rows, one
@@ -184,11 +197,7 @@ WP_FN uint4 wp_sobol4_reversed(uint j) {
 }
 
 WP_FN uint wp_laine_karras_permutation(uint x, uint seed) {
-    x += seed;
-    x ^= x * 0x6c50b47cu;
-    x ^= x * 0xb82f1e52u;
-    x ^= x * 0xc7afe638u;
-    x ^= x * 0x8d22f6e6u;
+    WP_LAINE_KARRAS_STEPS(x, seed);
     return x;
 }
 WP_FN uint wp_nested_uniform_scramble(uint x, uint seed) {
@@ -214,19 +223,14 @@ WP_FN uint4 wp_sobol4(uint index) {
 WP_FN uint4 wp_sobol_owen4(uint index, uint seed) {
     uint4 r = wp_sobol4_reversed(wp_laine_karras_permutation(wp_reverse_bits(index), seed));
 #if defined(__OPENCL_VERSION__)
-    // The four scrambles as 128-bit vector operations (PoCL does not combine the scalar
-    // chains by itself): the same steps as wp_laine_karras_permutation and wp_reverse_bits.
-    uint4 x = r + (uint4)(wp_hash_combine(seed, 0u), wp_hash_combine(seed, 1u),
+    // The four scrambles as one 128-bit chain (the steps of wp_laine_karras_permutation
+    // and wp_reverse_bits on a uint4).
+    uint4 x = r;
+    uint4 seeds = (uint4)(wp_hash_combine(seed, 0u), wp_hash_combine(seed, 1u),
                           wp_hash_combine(seed, 2u), wp_hash_combine(seed, 3u));
-    x ^= x * 0x6c50b47cu;
-    x ^= x * 0xb82f1e52u;
-    x ^= x * 0xc7afe638u;
-    x ^= x * 0x8d22f6e6u;
-    x = ((x >> 1) & 0x55555555u) | ((x & 0x55555555u) << 1);
-    x = ((x >> 2) & 0x33333333u) | ((x & 0x33333333u) << 2);
-    x = ((x >> 4) & 0x0f0f0f0fu) | ((x & 0x0f0f0f0fu) << 4);
-    x = ((x >> 8) & 0x00ff00ffu) | ((x & 0x00ff00ffu) << 8);
-    return (x >> 16) | (x << 16);
+    WP_LAINE_KARRAS_STEPS(x, seeds);
+    WP_REVERSE_BITS_STEPS(x);
+    return x;
 #else
     return make_uint4(wp_reverse_bits(wp_laine_karras_permutation(r.x, wp_hash_combine(seed, 0u))),
                       wp_reverse_bits(wp_laine_karras_permutation(r.y, wp_hash_combine(seed, 1u))),
