@@ -357,3 +357,17 @@ TEST_CASE("obj: numbers with huge exponents are refused before tinyobjloader see
     wp::Scene s = wp::parse_obj("v 0 0 0\nv 1e0 0 0\nv 0 1.0E+000 0\nf 1 2 3\n", "ok.obj");
     CHECK(s.triangle_count() == 1);
 }
+
+TEST_CASE("obj: skin weights (`vw`) are skipped, line numbers still match the file",
+          "[scene][obj][parser]") {
+    // tinyobjloader casts a vw joint id to int unchecked: "21e39" was undefined behaviour
+    // (fuzz/regressions/obj/tinyobj-vw-joint-id-int-overflow). The triangle is unchanged.
+    wp::Scene s = wp::parse_obj("v 0 0 0\nvw 1 21e39 0 0.5\nv 1 0 0\nvw 0 0 0.5\nv 0 1 0\nf 1 2 3\n",
+                                "skin.obj");
+    REQUIRE(s.triangle_count() == 1);
+    CHECK(s.positions[s.triangles[0][1]] == glm::vec3(1, 0, 0));
+    CHECK(s.positions[s.triangles[0][2]] == glm::vec3(0, 1, 0));
+    // An error after a dropped line names the file's own line (5)
+    CHECK_THAT(error_of([] { wp::parse_obj("v 0 0 0\nvw 1 2\nv 1 0 0\nv 0 1 0\nf 1 2 q\n", "skin.obj"); }),
+               Contains("skin.obj:5:"));
+}

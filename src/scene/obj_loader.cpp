@@ -94,10 +94,16 @@ std::string checked_obj_text(std::string_view input, const std::string& file,
         ++line_no;
         auto tok = tokens(line);
         check_exponents(tok, file, line_no);
-        // Geometry lines without their comment tail; other lines (names may hold '#') as is
+        // Geometry lines without their comment tail; other lines (names may hold '#') as is.
+        // `vw` (tinyobjloader's skin-weight extension) is dropped: nothing here renders
+        // skinning, and tinyobjloader casts its joint ids to int unchecked (undefined
+        // behaviour for "vw 1 21e39", found by fuzz_obj). The line stays, empty, so that
+        // later line numbers still match the file.
         static constexpr std::string_view kGeometry[] = {"v", "vt", "vn", "vp", "f", "l", "p"};
-        if (!tok.empty() &&
-            std::find(std::begin(kGeometry), std::end(kGeometry), tok[0]) != std::end(kGeometry)) {
+        if (!tok.empty() && tok[0] == "vw") {
+            // nothing
+        } else if (!tok.empty() && std::find(std::begin(kGeometry), std::end(kGeometry),
+                                             tok[0]) != std::end(kGeometry)) {
             for (auto t : tok)
                 text.append(t).push_back(' ');
         } else {
