@@ -18,6 +18,8 @@
 #include "shared/adaptive.h"
 #include "shared/film.h"
 #include "support.h"
+#include "temp_dir.h"
+#include "util/limits.h"
 
 using namespace wp;
 
@@ -384,5 +386,39 @@ TEST_CASE("target error: the true relMSE at the stop is within 1.5x of the estim
                 // The reference is good enough to tell.
                 CHECK(ref_own < 0.2 * res.estimated_error);
             }
+    }
+}
+
+// The command line: --target-error stops at its estimate (shown in the progress line and
+// stored in the EXR header) without an spp total; --adaptive records its mean spp; bad
+// values are usage errors that write nothing.
+TEST_CASE("render CLI: --target-error and --adaptive", "[render][cli][adaptive]") {
+    test::TempDir d;
+    test::CliRun r = test::run_render(d.path, "--size 32x24 --target-error 1e-2 -o t.exr");
+    INFO(r.err);
+    REQUIRE(r.status == 0);
+    CHECK(r.err.find("est. relMSE") != std::string::npos);
+    auto est = read_image_attribute(d.path / "t.exr", "wavepath:estimated_relmse");
+    auto spp = read_image_attribute(d.path / "t.exr", "wavepath:spp");
+    REQUIRE(est);
+    REQUIRE(spp);
+    CHECK(std::stod(*est) <= 1e-2);
+    CHECK(std::stoi(*spp) >= limits::kDefaultMinSpp);
+    CHECK(std::stoi(*spp) < 4096);
+
+    r = test::run_render(d.path, "--size 32x24 --adaptive --spp 64 -o a.exr");
+    REQUIRE(r.status == 0);
+    auto mean = read_image_attribute(d.path / "a.exr", "wavepath:mean_spp");
+    REQUIRE(mean);
+    CHECK(std::stod(*mean) < 64.0);
+    CHECK(std::stod(*mean) >= limits::kDefaultMinSpp);
+
+    for (const char* bad : {"--adaptive-threshold 1e-3", "--adaptive --adaptive-threshold 0",
+                            "--adaptive --min-spp 1", "--target-error -1", "--target-error nan"}) {
+        test::TempDir e;
+        test::CliRun b = test::run_render(e.path, std::string("--size 8x6 --spp 4 ") + bad);
+        INFO(bad << ": " << b.err);
+        CHECK(b.status == 2);
+        CHECK(e.empty_of_images());
     }
 }

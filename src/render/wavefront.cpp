@@ -195,7 +195,8 @@ double Wavefront::mean_spp() const {
 double Wavefront::estimate_error() {
     if (!active_) fail("the film keeps no error estimate (render settings without error_estimate)");
     if (passes_ < 2) return std::numeric_limits<double>::infinity();
-    active_->refresh(dev_, film_, passes_);
+    // An adaptive check at this pass has just refreshed every listed pixel.
+    if (!(adaptive() && checked_at_ == passes_)) active_->refresh(dev_, film_, passes_);
     return active_->mean_error();
 }
 
@@ -207,6 +208,9 @@ const std::vector<float>& Wavefront::pixel_errors() const {
 void Wavefront::check_active(int passes) {
     if (passes == checked_at_ || next_error_check(passes, settings_.adaptive.min_spp) != passes)
         return;
+    // The check reads the film, so it waits for the waves before it; that wait is not its
+    // cost (the device is busy with them), so the clock starts after it.
+    dev_.queue.finish();
     Timer t;
     active_->refresh(dev_, film_, passes);
     active_->drop_converged(dev_, settings_.adaptive.threshold, passes);

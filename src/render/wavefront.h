@@ -166,7 +166,8 @@ class Wavefront {
     double estimate_error();
     // Per pixel: the latest estimate (stopped pixels: the one they stopped with).
     const std::vector<float>& pixel_errors() const;
-    // Checks of the active list so far and their host time (kernel, read, compaction).
+    // Checks of the active list so far and their time (kernel, read, compaction, upload;
+    // after the queue has drained).
     struct AdaptiveStats {
         int checks = 0;
         double check_ms = 0.0;
