@@ -61,7 +61,8 @@ Scene plates_with_background() {
 
 }  // namespace
 
-TEST_CASE("adaptive: the check schedule is min spp, then every max(4, spp/4) passes", "[unit]") {
+TEST_CASE("adaptive: the check schedule is min spp, then every max(4, spp/4) passes",
+          "[unit][adaptive]") {
     for (int min_spp : {2, 16, 100}) {
         CHECK(render::next_error_check(0, min_spp) == min_spp);
         CHECK(render::next_error_check(min_spp, min_spp) == min_spp);
@@ -76,7 +77,7 @@ TEST_CASE("adaptive: the check schedule is min spp, then every max(4, spp/4) pas
     }
 }
 
-TEST_CASE("adaptive: the per-pixel error kernel agrees with double precision", "[kernel]") {
+TEST_CASE("adaptive: the per-pixel error kernel agrees with double precision", "[kernel][adaptive]") {
     auto& dev = test::device();
     const std::size_t n = 1000;
     test::Rng rng(5);

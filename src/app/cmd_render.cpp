@@ -401,7 +401,8 @@ Subcommand add_render(CLI::App& app) {
     auto* c = s.app;
     c->add_option("scene", args->scene, kSceneArgHelp);
     c->add_option("--spp", args->spp,
-                  "Samples per pixel, 1..2^24 (beats the scene file's spp)")
+                  "Samples per pixel, 1..2^24 (beats the scene file's spp); with --adaptive the "
+                  "most a pixel gets, with --target-error a limit")
         ->capture_default_str()
         ->each([a = args.get()](const std::string&) { a->spp_given = true; });
     c->add_option("--time", args->time_s,

@@ -117,7 +117,9 @@ std::vector<StartupProgram> Wavefront::program_builds() const {
 }
 
 std::size_t Wavefront::film_bytes() const {
-    return static_cast<std::size_t>(pixel_count()) * FilmBuffers::bytes_per_pixel(settings_.variance);
+    return static_cast<std::size_t>(pixel_count()) *
+           (FilmBuffers::bytes_per_pixel(settings_.variance) +
+            (settings_.error_estimate ? ActivePixels::kBytesPerPixel : 0));
 }
 
 int Wavefront::passes_per_wave() const {
