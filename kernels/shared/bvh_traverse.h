@@ -10,6 +10,8 @@
 //     the nearest child that comes after the one it came from in (entry t, slot) order,
 //     so near-first order is kept without storing it. After Áfra & Szirmay-Kalos,
 //     "Stackless Multi-BVH Traversal for CPU, MIC and GPU Ray Tracing", CGF 33(1), 2014.
+//     A ring of the WP_BVH_SHORT_STACK (4) most recent pending ancestors spares most climbs
+//     and re-tests (wp_trace_stackless); the order and the hits do not depend on it.
 //   * wp_trace_closest_stack: the same order with a private stack of (child, entry t);
 //     the oracle and the speed reference for the stackless one.
 //   * wp_trace_any: stackless like wp_trace_closest, but children in slot order, and it
