@@ -6,6 +6,9 @@
 
 #include <cmath>
 #include <cstring>
+#include <fstream>
+#include <sstream>
+#include <string>
 #include <limits>
 #include <vector>
 
@@ -422,4 +425,43 @@ TEST_CASE("render CLI: --target-error and --adaptive", "[render][cli][adaptive]"
         CHECK(b.status == 2);
         CHECK(e.empty_of_images());
     }
+}
+
+// converge takes adaptive configurations: the CSV's mean_spp column is the mean over pixels
+// (below the most samples a pixel got, the spp column) for them, and equal to spp otherwise.
+TEST_CASE("converge CLI: adaptive configurations side by side", "[cli][adaptive]") {
+    test::TempDir d;
+    const std::string cmd = "cd '" + d.path.string() + "' && '" WP_CLI_PATH
+                            "' converge --time 0.3 --runs 1 --reference-spp 16 --csv c.csv -q "
+                            "--config 'plain=--size 16x12' "
+                            "--config 'adaptive=--size 16x12 --adaptive --min-spp 4 "
+                            "--adaptive-threshold 1e-2' > out.txt 2> err.txt";
+    REQUIRE(std::system(cmd.c_str()) == 0);
+    std::ifstream in(d.path / "c.csv");
+    std::string line;
+    std::getline(in, line);
+    CHECK(line == "configuration,run,seed,spp,seconds,rmse,relmse,mae,mean_spp");
+    int plain = 0, adaptive = 0, adapted = 0;
+    while (std::getline(in, line)) {
+        std::vector<std::string> f;
+        std::stringstream ss(line);
+        for (std::string x; std::getline(ss, x, ',');) f.push_back(x);
+        REQUIRE(f.size() == 9);
+        const double spp = std::stod(f[3]), mean = std::stod(f[8]);
+        if (f[0] == "plain") {
+            ++plain;
+            CHECK(mean == spp);
+        } else {
+            ++adaptive;
+            CHECK(mean <= spp);
+            adapted += mean < spp;
+        }
+    }
+    CHECK(plain > 0);
+    CHECK(adaptive > 0);
+    CHECK(adapted > 0);
+    std::ifstream out(d.path / "out.txt");
+    std::stringstream table;
+    table << out.rdbuf();
+    CHECK(table.str().find("(mean ") != std::string::npos);  // the adaptive row's mean spp
 }

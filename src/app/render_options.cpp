@@ -78,14 +78,16 @@ void add_config_options(CLI::App* c, ConfigArgs& a) {
                   "measuring what specialisation gains)")
         ->capture_default_str();
     c->add_flag("--adaptive", a.adaptive,
-                "Adaptive sampling: after --min-spp samples, a pixel whose estimated relMSE "
-                "(1/3 sum over channels of (s^2/n) / (mean^2 + 0.01), from its own samples) is "
-                "<= --adaptive-threshold stops receiving samples; checked at --min-spp, then "
-                "every max(4, spp/4) passes. Each pixel stays the mean of its own samples "
-                "(--spp is then the most samples a pixel gets); see docs/adaptive.md")
+                "Adaptive sampling: after --min-spp samples, a pixel stops receiving samples "
+                "when the largest estimated relMSE over its 3x3 neighbourhood (per pixel: 1/3 "
+                "sum over channels of (s^2/n) / (mean^2 + 0.01), from its own samples) is <= "
+                "--adaptive-threshold; checked at --min-spp, then every max(4, spp/4) passes. "
+                "Each pixel stays the mean of its own samples (--spp is then the most samples "
+                "a pixel gets); see docs/adaptive.md")
         ->group("Adaptive sampling");
     c->add_option("--adaptive-threshold", a.adaptive_threshold,
-                  "The per-pixel estimated relMSE at which --adaptive stops a pixel, " +
+                  "The estimated relMSE at which --adaptive stops a pixel (the largest over "
+                  "its 3x3 neighbourhood), " +
                       fmt::format("{:g}..{:g}. Default {:g}, or the --target-error when one is given",
                                   limits::kMinErrorThreshold, limits::kMaxErrorThreshold,
                                   limits::kDefaultAdaptiveThreshold))
