@@ -18,15 +18,15 @@
 //   squares), from which the host derives the sample variance and the variance of the
 //   mean. Used only when variance or a reference is requested (render/wavefront.h), so
 //   plain renders neither square nor store the second buffer.
+// accumulate_film_active
+//   adaptive sampling: the same over a wave of the active-pixel list (below).
 #include "shared/film.h"
 
 // Adds the wave's samples of one pixel; with film_sq also their squares.
-WP_FN void wp_accumulate_pixel(WP_GLOBAL const float4* radiance, int first_pixel, int count,
+// Work-item j adds items j, j + pixel_count, ... < count to pixel p.
+WP_FN void wp_accumulate_pixel(WP_GLOBAL const float4* radiance, int j, int p, int count,
                                int pixel_count, int film_first, WP_GLOBAL FilmPixel* film,
                                WP_GLOBAL int* counters, WP_GLOBAL FilmPixel* film_sq) {
-    int j = wp_global_id();
-    if (j >= min(count, pixel_count)) return;
-    int p = first_pixel + j;
     int f = p - film_first;  // the pixel's slot in this film segment
     FilmPixel sum = film[f];
     FilmPixel sq = sum;
@@ -50,13 +50,32 @@ WP_FN void wp_accumulate_pixel(WP_GLOBAL const float4* radiance, int first_pixel
 WP_KERNEL void accumulate_film(WP_GLOBAL const float4* radiance, int first_pixel, int count,
                                int pixel_count, int film_first, WP_GLOBAL FilmPixel* film,
                                WP_GLOBAL int* counters) {
-    wp_accumulate_pixel(radiance, first_pixel, count, pixel_count, film_first, film, counters, 0);
+    int j = wp_global_id();
+    if (j >= min(count, pixel_count)) return;
+    wp_accumulate_pixel(radiance, j, first_pixel + j, count, pixel_count, film_first, film,
+                        counters, 0);
 }
 
 WP_KERNEL void accumulate_film_variance(WP_GLOBAL const float4* radiance, int first_pixel,
                                         int count, int pixel_count, int film_first,
                                         WP_GLOBAL FilmPixel* film, WP_GLOBAL int* counters,
                                         WP_GLOBAL FilmPixel* film_sq) {
-    wp_accumulate_pixel(radiance, first_pixel, count, pixel_count, film_first, film, counters,
-                        film_sq);
+    int j = wp_global_id();
+    if (j >= min(count, pixel_count)) return;
+    wp_accumulate_pixel(radiance, j, first_pixel + j, count, pixel_count, film_first, film,
+                        counters, film_sq);
+}
+
+// accumulate_film_active — adaptive sampling (generate_camera_active): the wave ran over
+// the active list; work-item j takes list entry first + j, pixel active[first + j], and adds
+// its items j, j + active_count, ... in sample order to the sum and the sum of squares
+// (adaptive sampling always keeps the variance).
+WP_KERNEL void accumulate_film_active(WP_GLOBAL const float4* radiance,
+                                      WP_GLOBAL const int* active, int first, int count,
+                                      int active_count, int film_first, WP_GLOBAL FilmPixel* film,
+                                      WP_GLOBAL int* counters, WP_GLOBAL FilmPixel* film_sq) {
+    int j = wp_global_id();
+    if (j >= min(count, active_count)) return;
+    wp_accumulate_pixel(radiance, j, active[first + j], count, active_count, film_first, film,
+                        counters, film_sq);
 }

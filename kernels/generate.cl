@@ -21,20 +21,10 @@
 #define WP_HAVE_LENS 0
 #endif
 
-WP_KERNEL void generate_camera(CameraData camera, uint seed, int first_pixel, uint first_sample,
-                               int count, WP_GLOBAL Ray* rays, WP_GLOBAL PathState* paths,
-                               WP_GLOBAL float4* radiance, WP_GLOBAL int* queue_count,
-                               WP_GLOBAL int* counters) {
-    int i = wp_global_id();
-    if (i >= count) return;
-    if (i == 0) queue_count[0] = count;
-    int n = camera.width * camera.height;
-    // Pixel and sample of item i (no div/rem pair: LLVM fuses it behind a `freeze`, which
-    // Oclgrind cannot check).
-    int s = first_pixel + i;
-    int pass = s / n;
-    int p = s - pass * n;
-    uint sample = first_sample + (uint)pass;
+// The camera ray and fresh path of item i: sample `sample` of pixel p.
+WP_FN void wp_generate_item(CameraData camera, uint seed, int i, int p, uint sample,
+                            WP_GLOBAL Ray* rays, WP_GLOBAL PathState* paths,
+                            WP_GLOBAL float4* radiance, WP_GLOBAL int* counters) {
     int y = p / camera.width, x = p - y * camera.width;
 
     // Position inside the pixel: random with jitter, else its centre.
@@ -72,4 +62,41 @@ WP_KERNEL void generate_camera(CameraData camera, uint seed, int first_pixel, ui
     ps.cone = 0.0f;
     paths[i] = ps;
     radiance[i] = make_float4(0.0f, 0.0f, 0.0f, 0.0f);
+}
+
+WP_KERNEL void generate_camera(CameraData camera, uint seed, int first_pixel, uint first_sample,
+                               int count, WP_GLOBAL Ray* rays, WP_GLOBAL PathState* paths,
+                               WP_GLOBAL float4* radiance, WP_GLOBAL int* queue_count,
+                               WP_GLOBAL int* counters) {
+    int i = wp_global_id();
+    if (i >= count) return;
+    if (i == 0) queue_count[0] = count;
+    int n = camera.width * camera.height;
+    // Pixel and sample of item i (no div/rem pair: LLVM fuses it behind a `freeze`, which
+    // Oclgrind cannot check).
+    int s = first_pixel + i;
+    int pass = s / n;
+    int p = s - pass * n;
+    wp_generate_item(camera, seed, i, p, first_sample + (uint)pass, rays, paths, radiance, counters);
+}
+
+// generate_camera_active — the same for adaptive sampling (render/adaptive.h): the wave's
+// samples run over the list of active pixels, active[0..active_count), instead of every
+// pixel: item i is list entry L = first + i mod active_count of pass (first + i) /
+// active_count, i.e. sample first_sample + pass of pixel active[L]. Every active pixel has
+// had the same number of samples (a pixel never restarts once stopped), so its sample
+// index, and with it its random numbers, are those of the render without adaptive sampling.
+WP_KERNEL void generate_camera_active(CameraData camera, uint seed, WP_GLOBAL const int* active,
+                                      int first, int active_count, uint first_sample, int count,
+                                      WP_GLOBAL Ray* rays, WP_GLOBAL PathState* paths,
+                                      WP_GLOBAL float4* radiance, WP_GLOBAL int* queue_count,
+                                      WP_GLOBAL int* counters) {
+    int i = wp_global_id();
+    if (i >= count) return;
+    if (i == 0) queue_count[0] = count;
+    int s = first + i;
+    int pass = s / active_count;
+    int l = s - pass * active_count;
+    wp_generate_item(camera, seed, i, active[l], first_sample + (uint)pass, rays, paths, radiance,
+                     counters);
 }

@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # run_oclgrind.sh OCLGRIND TESTS WAVEPATH — runs the tiny kernel tests ([oclgrind] and the
 # layout probe) under Oclgrind's checks and fails on any report it writes (issue 5, case 9);
-# then renders two small scenes with the same seed under Oclgrind and on the default
+# then renders two small scenes (and one adaptive render with a target error) with the same
+# seed under Oclgrind and on the default
 # device (PoCL) and requires the images to agree (per-pixel z-test with both variances,
 # and relMSE < 1e-9: they differ only by the last-ulp freedom OpenCL gives sqrt, sin, cos
 # and log, measured 7e-15 and 1e-13).
@@ -37,8 +38,12 @@ run --check-api --data-races -- "oclgrind: the watertight probe on tiny meshes"
 if [ -n "$wavepath" ]; then
   dir=$(mktemp -d)
   trap 'rm -f "$log"; rm -rf "$dir"' EXIT
-  for scene in builtin:cornell-box builtin:veach-plates; do
-    args=(render "$scene" --size 8x6 --spp 2 --depth 3 --seed 3 --sampler random --variance -q)
+  # The third run: adaptive sampling with a target error (the active-list generate and
+  # accumulate kernels, adaptive_error; docs/adaptive.md), stopped by --spp.
+  for run_args in "builtin:cornell-box --spp 2" "builtin:veach-plates --spp 2" \
+                  "builtin:veach-plates --spp 12 --adaptive --min-spp 2 --adaptive-threshold 1e-2 --target-error 1e-6"; do
+    read -r -a extra <<<"$run_args"
+    args=(render "${extra[0]}" --size 8x6 --depth 3 --seed 3 --sampler random --variance -q "${extra[@]:1}")
     : >"$log"
     echo "run_oclgrind: oclgrind --check-api --data-races wavepath ${args[*]}"
     "$oclgrind" --check-api --data-races --log "$log" "$wavepath" "${args[@]}" -o "$dir/og.exr" || status=1

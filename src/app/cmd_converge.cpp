@@ -7,7 +7,7 @@
 // (Wavefront::reset between runs) and one discarded warm-up pass runs first, so program
 // builds and kernel JIT are not render time; film reads and metrics at checkpoints are not
 // counted either (render/loop.h). Writes a CSV (configuration, run, seed, spp, seconds,
-// rmse, relmse, mae) and prints per configuration: relMSE at equal time (mean and
+// rmse, relmse, mae, mean_spp) and prints per configuration: relMSE at equal time (mean and
 // standard deviation over runs), efficiency 1 / (relMSE · seconds), and the time to reach
 // a target relMSE (log-log interpolation between checkpoints, mean over the runs that
 // reach it).
@@ -15,6 +15,13 @@
 // The reference is --reference REF.exr, or rendered here at --reference-spp with its own
 // seed and variance (saved next to the CSV). Its own estimated error (from REF.var.exr) must
 // be at most a tenth of the smallest relMSE reported, else a warning says so.
+//
+// Strategies side by side: a configuration may use adaptive sampling ("--adaptive
+// [--adaptive-threshold X --min-spp N]", render/adaptive.h); its spp column is then the
+// most samples any pixel has, and mean_spp the mean over pixels. The time of its checks is
+// render time. A post-process (a denoiser) plugs in at checkpoint_image() below: whatever
+// it costs is added to the run's seconds, so equal time stays equal time; its errors are
+// those of a biased image (say so wherever they are reported).
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
@@ -71,7 +78,15 @@ struct Row {
     int spp = 0;
     double seconds = 0.0;
     ErrorMetrics err;
+    double mean_spp = 0.0;  // the mean over pixels (adaptive sampling); else spp
 };
+
+// The image a configuration is measured by at a checkpoint: the film's mean. A post-process
+// of the configuration (e.g. a denoiser) goes here, adding its time to *extra_s.
+Image checkpoint_image(render::Wavefront& wf, const Config& /*config*/, double* extra_s) {
+    *extra_s += 0.0;
+    return wf.resolve();
+}
 
 // Parses "NAME=OPTIONS" with the render configuration options.
 Config parse_config(const std::string& spec) {
@@ -86,7 +101,7 @@ Config parse_config(const std::string& spec) {
     try {
         parser.parse(c.options, false);
     } catch (const CLI::ParseError& e) {
-        usage_fail("--config '{}': {} (a configuration takes --depth, --size, --device, --traversal, --sampling, --glossy, --rr-depth)",
+        usage_fail("--config '{}': {} (a configuration takes --depth, --size, --device, --traversal, --sampling, --glossy, --sampler, --rr-depth, --pool, --kernels, --adaptive, --adaptive-threshold, --min-spp)",
              spec, e.what());
     }
     return c;
@@ -199,9 +214,11 @@ int run_converge(const ConvergeArgs& a) {
             std::uint32_t seed = a.seed + static_cast<std::uint32_t>(run);
             wf.reset(seed);
             std::vector<Row> rr;
+            double post_s = 0.0;  // post-process time so far (checkpoint_image)
             auto record = [&](int frames, double seconds) {
-                rr.push_back({c.name, run, seed, frames, seconds,
-                              compare_images(wf.resolve(), ref.image)});
+                Image img = checkpoint_image(wf, c, &post_s);
+                rr.push_back({c.name, run, seed, frames, seconds + post_s,
+                              compare_images(img, ref.image), wf.mean_spp()});
             };
             render::LoopOptions lo;
             lo.spp = a.max_spp;
@@ -209,7 +226,8 @@ int run_converge(const ConvergeArgs& a) {
             lo.checkpoint_due = [](int frames, double) { return power_of_two(frames); };
             lo.checkpoint = record;
             render::LoopResult res = render::render_frames(wf, lo, nullptr);
-            if (rr.empty() || rr.back().spp != res.frames) record(res.frames, res.render_s);
+            if (rr.empty() || rr.back().spp != res.frames || rr.back().mean_spp != wf.mean_spp())
+                record(res.frames, res.render_s);
             if (!a.quiet)
                 fmt::print(stderr, "converge: {} run {} (seed {}): {} spp in {:.2f} s, {}\n",
                            c.name, run, seed, rr.back().spp, rr.back().seconds,
@@ -220,10 +238,11 @@ int run_converge(const ConvergeArgs& a) {
     }
 
     // 5. CSV.
-    std::string csv = "configuration,run,seed,spp,seconds,rmse,relmse,mae\n";
+    std::string csv = "configuration,run,seed,spp,seconds,rmse,relmse,mae,mean_spp\n";
     for (const Row& r : rows)
-        csv += fmt::format("{},{},{},{},{:.6f},{:.6e},{:.6e},{:.6e}\n", r.config, r.run, r.seed,
-                           r.spp, r.seconds, r.err.rmse, r.err.relmse, r.err.mae);
+        csv += fmt::format("{},{},{},{},{:.6f},{:.6e},{:.6e},{:.6e},{:.3f}\n", r.config, r.run,
+                           r.seed, r.spp, r.seconds, r.err.rmse, r.err.relmse, r.err.mae,
+                           r.mean_spp);
     write_text_atomically(a.csv, csv);
 
     // 6. Summary: equal time, efficiency, time to the target.
@@ -244,10 +263,11 @@ int run_converge(const ConvergeArgs& a) {
                target);
     double smallest = 1e300;
     for (const auto& c : configs) {
-        std::vector<double> rel, spp, secs, tt;
+        std::vector<double> rel, spp, secs, tt, mspp;
         for (const auto& rr : by_config[c.name]) {
             rel.push_back(rr.back().err.relmse);
             spp.push_back(rr.back().spp);
+            mspp.push_back(rr.back().mean_spp);
             secs.push_back(rr.back().seconds);
             for (const Row& r : rr) smallest = std::min(smallest, r.err.relmse);
             if (auto t = time_to(rr, target)) tt.push_back(*t);
@@ -256,8 +276,10 @@ int run_converge(const ConvergeArgs& a) {
         std::string ttext = tt.empty() ? std::string("not reached")
                                        : fmt::format("{:.2f} s ({}/{} runs)", mean_of(tt),
                                                      tt.size(), rel.size());
-        fmt::print("| {} | {} | {:.0f} | {:.3e} ± {:.1e} | {:.3g} | {} |\n", c.name,
-                   c.options.empty() ? "(defaults)" : c.options, mean_of(spp), mean_of(rel),
+        std::string spp_text = fmt::format("{:.0f}", mean_of(spp));
+        if (c.args.adaptive) spp_text += fmt::format(" (mean {:.1f})", mean_of(mspp));
+        fmt::print("| {} | {} | {} | {:.3e} ± {:.1e} | {:.3g} | {} |\n", c.name,
+                   c.options.empty() ? "(defaults)" : c.options, spp_text, mean_of(rel),
                    sd_of(rel), eff, ttext);
     }
     fmt::print("csv: {}\n", a.csv);
@@ -296,7 +318,10 @@ Subcommand add_converge(CLI::App& app) {
         ->capture_default_str();
     c->add_option("--config", args->configs,
                   "A configuration NAME=OPTIONS, OPTIONS being render options (--depth, --size, "
-                  "--device, --traversal, --sampling, --glossy, --rr-depth), e.g. \"d2=--depth 2 --size 200x150\"; repeatable")
+                  "--device, --traversal, --sampling, --glossy, --sampler, --rr-depth, --pool, "
+                  "--kernels, --adaptive, --adaptive-threshold, --min-spp), e.g. \"d2=--depth 2 "
+                  "--size 200x150\" or \"adaptive=--adaptive --adaptive-threshold 1e-3\"; repeatable. "
+                  "With --adaptive the spp column is the most samples a pixel got and mean_spp the mean")
         ->take_all()
         ->allow_extra_args(false);
     c->add_option("--csv", args->csv, "CSV output")->capture_default_str();

@@ -46,6 +46,7 @@ struct RenderArgs {
     std::string scene;     // empty: the built-in Cornell box
     int spp = limits::kDefaultSpp;
     double time_s = 0.0;   // 0: no time limit
+    double target_error = 0.0;  // --target-error: estimated relMSE to stop at; 0: none
     ConfigArgs config;     // depth, size, device, traversal, sampling, glossy, rr-depth (app/render_options.h)
     SceneEdits edits;      // --env, --env-scale, --env-rotate, --smooth (app/render_options.h)
     long long seed = 0;    // 0..limits::kMaxSeed, checked in run_render
@@ -97,6 +98,10 @@ int run_render(const RenderArgs& a) {
     if (a.debug_nan_period < 1)
         usage_fail("--debug-nan-period must be in 1..{} (got {})",
                    std::numeric_limits<int>::max(), a.debug_nan_period);
+    if (!(a.target_error == 0.0 || (a.target_error >= limits::kMinErrorThreshold &&
+                                    a.target_error <= limits::kMaxErrorThreshold)))
+        usage_fail("--target-error must be 0 (none) or in {:g}..{:g} (got {})",
+                   limits::kMinErrorThreshold, limits::kMaxErrorThreshold, a.target_error);
     parse_debug_nan(a.debug_nan);  // checked before any work
     check_scene_edits(a.edits);
 
@@ -145,14 +150,24 @@ int run_render(const RenderArgs& a) {
     }();
     startup.load_ms = step.ms();
     render::RenderSettings s = make_settings(a.config, scene);
-    // The scene file's spp and seed, unless given on the command line.
-    const int spp = a.spp_given || !scene.render.spp ? a.spp : *scene.render.spp;
+    // The scene file's spp and seed, unless given on the command line. With --target-error
+    // only --spp limits the samples (the scene file's spp does not).
+    const bool target = a.target_error > 0.0;
+    const int spp = a.spp_given ? a.spp
+                    : target    ? limits::kMaxSpp
+                    : scene.render.spp ? *scene.render.spp
+                                       : a.spp;
     s.seed = a.seed_given || !scene.render.seed ? static_cast<std::uint32_t>(a.seed)
                                                  : *scene.render.seed;
     s.inject_nan = parse_debug_nan(a.debug_nan);
     s.inject_period = a.debug_nan_period;
     if (spp < 1) fail("spp must be at least 1 (got {} from the scene file)", spp);
     s.variance = a.variance;
+    // --target-error: the per-pixel error estimates (render/adaptive.h); with --adaptive and
+    // no --adaptive-threshold, pixels stop at the target itself.
+    s.error_estimate = target;
+    if (target && s.adaptive.enabled && !a.config.adaptive_threshold_given)
+        s.adaptive.threshold = a.target_error;
     // A reference of the wrong size is an error before any rendering.
     std::optional<render::Reference> ref;
     if (!a.reference.empty()) ref = render::load_reference(a.reference, s.width, s.height);
@@ -185,8 +200,24 @@ int run_render(const RenderArgs& a) {
     // samples so far are written (app/interrupt.h); a second one ends the process at once.
     install_interrupt_handler();
     render::Progress progress(spp, a.time_s, !a.quiet);
+    if (target && !a.spp_given) progress.set_open_ended();
     render::LoopOptions lo;
     lo.spp = spp;
+    if (target) {
+        lo.target_error = a.target_error;
+        lo.min_spp = s.adaptive.min_spp;
+        lo.on_estimate = [&](double e) {
+            std::string note = fmt::format("est. relMSE {:.3e} (target {:.3g})", e, a.target_error);
+            if (wf.adaptive())
+                note += fmt::format("  active {:.1f}%", 100.0 * double(wf.active_pixels()) / wf.pixel_count());
+            progress.set_note(note);
+        };
+    } else if (s.adaptive.enabled) {
+        // The share of pixels still sampled, after each step (no film read).
+        lo.after_step = [&] {
+            progress.set_note(fmt::format("active {:.1f}%", 100.0 * double(wf.active_pixels()) / wf.pixel_count()));
+        };
+    }
     lo.time_limit_s = a.time_s;
     lo.should_stop = [] { return interrupt_signal() != 0; };
     if (ref && !a.quiet) {
@@ -213,9 +244,16 @@ int run_render(const RenderArgs& a) {
 
     // 5. Images (atomic writes).
     // The header records the samples per pixel and whether Ctrl-C cut the render short.
-    const std::vector<ImageAttribute> attrs = {
+    std::vector<ImageAttribute> attrs = {
         {"wavepath:spp", std::to_string(res.frames), true},
         {"wavepath:interrupted", res.interrupted ? "1" : "0", true}};
+    // Adaptive sampling: spp is the most any pixel got; the mean and the threshold too.
+    if (s.adaptive.enabled) {
+        attrs.push_back({"wavepath:adaptive_threshold", fmt::format("{:g}", s.adaptive.threshold), false});
+        attrs.push_back({"wavepath:mean_spp", fmt::format("{:.3f}", wf.mean_spp()), false});
+    }
+    if (res.estimated_error >= 0.0)
+        attrs.push_back({"wavepath:estimated_relmse", fmt::format("{:.6e}", res.estimated_error), false});
     Image img, variance;
     {
         HostSpan span("resolve");
@@ -254,12 +292,30 @@ int run_render(const RenderArgs& a) {
         std::string names;
         for (const auto& o : outputs) names += (names.empty() ? "" : ", ") + o.string();
         if (a.variance) names += ", " + variance_path.string() + " (variance of the mean)";
-        fmt::print("{}: {}x{}, {} spp, depth {}, {:.2f} s{}; wrote {}\n", scene.name, s.width,
-                   s.height, res.frames, s.depth, res.render_s,
-                   res.stopped_by_time ? " (time limit)"
-                   : res.interrupted   ? fmt::format(" (interrupted at {} spp)", res.frames)
-                                       : "",
-                   names);
+        std::string why = res.stopped_by_target  ? fmt::format(" (target error reached)")
+                          : res.stopped_by_time  ? std::string(" (time limit)")
+                          : res.interrupted      ? fmt::format(" (interrupted at {} spp)", res.frames)
+                          : res.converged        ? std::string(" (adaptive: every pixel converged)")
+                          : target               ? std::string(" (spp limit)")
+                                                 : std::string();
+        std::string spp_text = s.adaptive.enabled
+                                   ? fmt::format("{} spp at most, {:.1f} mean (adaptive, threshold {:g})",
+                                                 res.frames, wf.mean_spp(), s.adaptive.threshold)
+                                   : fmt::format("{} spp", res.frames);
+        fmt::print("{}: {}x{}, {}, depth {}, {:.2f} s{}; wrote {}\n", scene.name, s.width,
+                   s.height, spp_text, s.depth, res.render_s, why, names);
+        if (res.estimated_error >= 0.0)
+            fmt::print("estimated relMSE {:.3e} (from the image's own variance, eps 1e-2){}\n",
+                       res.estimated_error,
+                       target ? fmt::format("; target {:g} {}", a.target_error,
+                                            res.estimated_error <= a.target_error ? "reached" : "not reached")
+                              : std::string());
+        if (s.adaptive.enabled && a.verbose) {
+            auto st = wf.adaptive_stats();
+            fmt::print(stderr, "adaptive: {} checks, {:.1f} ms in all ({:.2f} ms each); {} of {} pixels still active\n",
+                       st.checks, st.check_ms, st.checks ? st.check_ms / st.checks : 0.0,
+                       wf.active_pixels(), wf.pixel_count());
+        }
         fmt::print("kernel options: {}\n", wf.options());
         if (err)
             fmt::print("error against {}: {} (relMSE eps 1e-2); largest |difference| {:.3e} at "
@@ -297,7 +353,18 @@ int run_render(const RenderArgs& a) {
                          {"pool_bytes", wf.pool_bytes()},
                          {"film_bytes", wf.film_bytes()},
                          {"time_limit_s", a.time_s}, {"wall_s", res.wall_s},
-                         {"render_s", res.render_s}};
+                         {"render_s", res.render_s},
+                         {"adaptive", s.adaptive.enabled},
+                         {"target_error", a.target_error}};
+        if (s.adaptive.enabled) {
+            auto st = wf.adaptive_stats();
+            j["adaptive"] = {{"threshold", s.adaptive.threshold}, {"min_spp", s.adaptive.min_spp},
+                             {"mean_spp", wf.mean_spp()}, {"active_pixels", wf.active_pixels()},
+                             {"checks", st.checks}, {"check_ms", st.check_ms}};
+        }
+        if (res.estimated_error >= 0.0)
+            j["estimated_relmse"] = {{"value", res.estimated_error}, {"eps", 1e-2},
+                                     {"stopped_by_target", res.stopped_by_target}};
         if (err)
             j["error"] = {{"reference", a.reference}, {"rmse", err->rmse},
                           {"relmse", err->relmse}, {"relmse_eps", 1e-2}, {"mae", err->mae},
@@ -334,12 +401,23 @@ Subcommand add_render(CLI::App& app) {
     auto* c = s.app;
     c->add_option("scene", args->scene, kSceneArgHelp);
     c->add_option("--spp", args->spp,
-                  "Samples per pixel, 1..2^24 (beats the scene file's spp)")
+                  "Samples per pixel, 1..2^24 (beats the scene file's spp); with --adaptive the "
+                  "most a pixel gets, with --target-error a limit")
         ->capture_default_str()
         ->each([a = args.get()](const std::string&) { a->spp_given = true; });
     c->add_option("--time", args->time_s,
                   "Stop after this many seconds even if --spp is not reached (the samples in "
                   "flight complete); 0 = no limit")
+        ->capture_default_str();
+    c->add_option("--target-error", args->target_error,
+                  "Render until the image's estimated relMSE falls to this (e.g. 1e-3): the mean "
+                  "over pixels of (1/3) sum over channels of (s^2/n) / (mean^2 + 0.01), from the "
+                  "image's own per-pixel variance (no reference), estimated at --min-spp and "
+                  "then every max(4, spp/4) passes and shown in the progress line. --time and "
+                  "--spp stay limits (whichever comes first; the summary says which stopped "
+                  "it); without --spp only they limit it (not the scene file's spp). With "
+                  "--adaptive, pixels stop at this error unless --adaptive-threshold is given. "
+                  "0 = none")
         ->capture_default_str();
     add_config_options(c, args->config);
     add_scene_edit_options(c, args->edits);

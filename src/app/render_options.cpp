@@ -77,6 +77,28 @@ void add_config_options(CLI::App* c, ConfigArgs& a) {
                   "sampling never picks): the same estimator and image in expectation, for "
                   "measuring what specialisation gains)")
         ->capture_default_str();
+    c->add_flag("--adaptive", a.adaptive,
+                "Adaptive sampling: after --min-spp samples, a pixel stops receiving samples "
+                "when the largest estimated relMSE over its 3x3 neighbourhood (per pixel: 1/3 "
+                "sum over channels of (s^2/n) / (mean^2 + 0.01), from its own samples) is <= "
+                "--adaptive-threshold; checked at --min-spp, then every max(4, spp/4) passes. "
+                "Each pixel stays the mean of its own samples (--spp is then the most samples "
+                "a pixel gets); see docs/adaptive.md")
+        ->group("Adaptive sampling");
+    c->add_option("--adaptive-threshold", a.adaptive_threshold,
+                  "The estimated relMSE at which --adaptive stops a pixel (the largest over "
+                  "its 3x3 neighbourhood), " +
+                      fmt::format("{:g}..{:g}. Default {:g}, or the --target-error when one is given",
+                                  limits::kMinErrorThreshold, limits::kMaxErrorThreshold,
+                                  limits::kDefaultAdaptiveThreshold))
+        ->group("Adaptive sampling")
+        ->each([&a](const std::string&) { a.adaptive_threshold_given = true; });
+    c->add_option("--min-spp", a.min_spp,
+                  fmt::format("Samples every pixel gets before --adaptive may stop it and before "
+                              "--target-error trusts its estimate, {}..2^24",
+                              limits::kMinMinSpp))
+        ->capture_default_str()
+        ->group("Adaptive sampling");
 }
 
 render::RenderSettings make_settings(const ConfigArgs& a, const Scene& scene) {
@@ -123,6 +145,18 @@ render::RenderSettings make_settings(const ConfigArgs& a, const Scene& scene) {
     if (a.kernels != "specialised" && a.kernels != "generic")
         usage_fail("--kernels '{}': expected specialised or generic", a.kernels);
     s.kernels = render::parse_kernel_set(a.kernels);
+    if (!(a.adaptive_threshold >= limits::kMinErrorThreshold &&
+          a.adaptive_threshold <= limits::kMaxErrorThreshold))
+        usage_fail("--adaptive-threshold must be in {:g}..{:g} (got {})", limits::kMinErrorThreshold,
+                   limits::kMaxErrorThreshold, a.adaptive_threshold);
+    if (a.min_spp < limits::kMinMinSpp || a.min_spp > limits::kMaxSpp)
+        usage_fail("--min-spp must be in {}..{} (got {})", limits::kMinMinSpp, limits::kMaxSpp,
+                   a.min_spp);
+    if (a.adaptive_threshold_given && !a.adaptive)
+        usage_fail("--adaptive-threshold needs --adaptive");
+    s.adaptive.enabled = a.adaptive;
+    s.adaptive.threshold = a.adaptive_threshold;
+    s.adaptive.min_spp = a.min_spp;
     return s;
 }
 

@@ -31,10 +31,15 @@ struct ConfigArgs {
     long long pool = 0;                   // paths in flight, 0..limits::kMaxPool; 0: automatic
     std::string kernels = "specialised";  // specialised | generic (render::KernelSet)
     bool depth_given = false;             // --depth was on the command line (beats the scene's)
+    // Adaptive sampling (render/adaptive.h): --adaptive, --adaptive-threshold, --min-spp.
+    bool adaptive = false;
+    double adaptive_threshold = limits::kDefaultAdaptiveThreshold;
+    int min_spp = limits::kDefaultMinSpp;
+    bool adaptive_threshold_given = false;
 };
 
 // Registers --depth, --size, --device, --traversal, --sampling, --glossy, --sampler,
-// --rr-depth, --pool and --kernels on `c`.
+// --rr-depth, --pool, --kernels, --adaptive, --adaptive-threshold and --min-spp on `c`.
 void add_config_options(CLI::App* c, ConfigArgs& a);
 
 // Validates the options and fills the settings (size from the scene when not given).

@@ -29,6 +29,17 @@ void resolve_film_into(const FilmPixel* film, std::size_t count, std::size_t fir
             out.rgb[3 * (first + k) + c] = static_cast<float>(value(film[k], c) * inv);
 }
 
+void resolve_film_into(const FilmPixel* film, std::size_t count, std::size_t first,
+                       const int* samples, Image& out) {
+    for (std::size_t k = 0; k < count; ++k) resolve_film_into(film + k, 1, first + k, samples[k], out);
+}
+
+void resolve_moments_into(const FilmPixel* film, const FilmPixel* film_sq, std::size_t count,
+                          std::size_t first, const int* samples, FilmMoments& m) {
+    for (std::size_t k = 0; k < count; ++k)
+        resolve_moments_into(film + k, film_sq + k, 1, first + k, samples[k], m);
+}
+
 Image resolve_film(const std::vector<FilmPixel>& film, int width, int height, int samples) {
     check_film(film, width, height);
     Image img(width, height);

@@ -34,6 +34,13 @@ void resolve_film_into(const FilmPixel* film, std::size_t count, std::size_t fir
 void resolve_moments_into(const FilmPixel* film, const FilmPixel* film_sq, std::size_t count,
                           std::size_t first, int samples, FilmMoments& out);
 
+// The same with each pixel's own sample count, samples[k] for pixel first + k (adaptive
+// sampling, render/adaptive.h): a pixel's mean is the mean of its own samples.
+void resolve_film_into(const FilmPixel* film, std::size_t count, std::size_t first,
+                       const int* samples, Image& out);
+void resolve_moments_into(const FilmPixel* film, const FilmPixel* film_sq, std::size_t count,
+                          std::size_t first, const int* samples, FilmMoments& out);
+
 // Mean, sample variance and variance of the mean from the sum and the sum of squares.
 // Throws wp::Error unless both films hold width * height pixels.
 FilmMoments resolve_moments(const std::vector<FilmPixel>& film,

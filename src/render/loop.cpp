@@ -24,11 +24,21 @@ LoopResult render_frames(Wavefront& wf, const LoopOptions& options, Progress* pr
     double paused_s = 0.0;  // time spent in checkpoints
     auto render_s = [&] { return timer.seconds() - paused_s; };
     const int start = wf.frames();
-    const int per_wave = std::max(1, wf.passes_per_wave());
     const double kernel_ms_before = kernel_ms(wf.profiler());
+    const bool target = options.target_error > 0.0;
+    int next_estimate = next_error_check(start + 1, options.min_spp);
+    int estimated_at = -1;
     while (wf.frames() - start < options.spp) {
+        if (wf.converged()) {
+            res.converged = true;
+            break;
+        }
         const int done = wf.frames() - start;  // before this step
-        const int k = std::min({per_wave, std::max(1, done), options.spp - done});
+        // (Per step: with adaptive sampling a wave holds more passes as pixels stop.)
+        const int per_wave = std::max(1, wf.passes_per_wave());
+        int k = std::min({per_wave, std::max(1, done), options.spp - done});
+        // With a target, steps end on the passes where the estimate is due.
+        if (target) k = std::max(1, std::min(k, next_estimate - wf.frames()));
         // Progress within the step: after each wave (several per pass when the image is
         // larger than the pool), so the line moves at least once a second.
         const double step_start = render_s();
@@ -52,6 +62,18 @@ LoopResult render_frames(Wavefront& wf, const LoopOptions& options, Progress* pr
             res.first_frame_ms = timer.ms();
             res.first_frame_kernel_ms = kernel_ms(wf.profiler()) - kernel_ms_before;
         }
+        if (options.after_step) options.after_step();
+        if (target && wf.frames() >= next_estimate) {
+            res.estimated_error = wf.estimate_error();
+            estimated_at = wf.frames();
+            next_estimate = next_error_check(wf.frames() + 1, options.min_spp);
+            if (options.on_estimate) options.on_estimate(res.estimated_error);
+            if (res.estimated_error <= options.target_error) {
+                res.stopped_by_target = true;
+                if (progress) progress->step(k, render_s() - step_start);
+                break;
+            }
+        }
         if (progress) progress->step(k, render_s() - step_start);
         if (progress && progress->due()) progress->update(wf.frames(), wf.rays_traced());
         // A stop request (Ctrl-C): the step just enqueued completes, so the film holds whole
@@ -66,6 +88,12 @@ LoopResult render_frames(Wavefront& wf, const LoopOptions& options, Progress* pr
             res.stopped_by_time = true;
             break;
         }
+    }
+    if (wf.converged() && !res.stopped_by_target) res.converged = true;
+    // The estimate of the image as it ends (another after a limit stopped it).
+    if (target && estimated_at != wf.frames() && wf.frames() >= 2) {
+        res.estimated_error = wf.estimate_error();
+        if (options.on_estimate) options.on_estimate(res.estimated_error);
     }
     wf.device().queue.finish();
     res.render_s = render_s();

@@ -16,6 +16,13 @@
 // seconds); a blocking film read there sees exactly `frames` samples (the queue is in order). The time spent inside checkpoints is
 // not render time: it is left out of `seconds`, of the time limit and of render_s, so
 // error-against-time curves are not bent by their own measurement.
+//
+// Target error (render --target-error): with LoopOptions::target_error > 0 the loop asks the
+// Wavefront for the image's estimated relMSE (Wavefront::estimate_error, render/adaptive.h) at
+// the passes next_error_check gives (min spp, then every max(4, spp / 4) passes; the steps
+// are cut to land on them) and stops once it is <= the target. Its time is render time (it
+// is part of the strategy). Adaptive sampling that has stopped every pixel ends the loop too
+// (LoopResult::converged).
 #pragma once
 
 #include <cstdint>
@@ -36,6 +43,14 @@ struct LoopOptions {
     // Optional stop request (e.g. the first Ctrl-C), asked after each step: the loop then ends
     // with the film holding whole passes (LoopResult::interrupted).
     std::function<bool()> should_stop;
+    // Stop when the estimated relMSE is <= this (needs RenderSettings::error_estimate); 0 =
+    // no target. Not before min_spp samples.
+    double target_error = 0.0;
+    int min_spp = limits::kDefaultMinSpp;
+    // Called with each new estimate (the progress line's note).
+    std::function<void(double estimate)> on_estimate;
+    // Called after each step (e.g. a progress note); reads nothing from the device.
+    std::function<void()> after_step;
 };
 
 struct LoopResult {
@@ -44,6 +59,10 @@ struct LoopResult {
     double render_s = 0.0;  // wall time less the time spent in checkpoints
     bool stopped_by_time = false;
     bool interrupted = false;  // should_stop said so before --spp was reached
+    bool stopped_by_target = false;  // the estimate reached LoopOptions::target_error
+    bool converged = false;          // adaptive sampling stopped every pixel
+    // The latest estimated relMSE (with a target: refreshed at the end); < 0: none.
+    double estimated_error = -1.0;
     // The first step (1 sample per pixel: the first frame): its wall time from the loop's
     // start to its completion on the device, the device time of its launches, and when it
     // was done (steady_ns(), for the cold-start figures of render/startup.h).

@@ -52,6 +52,11 @@ std::string Progress::line(double done, std::uint64_t rays) const {
     if (avg_spp > 0.0) eta = avg_s / avg_spp * std::max(0.0, total_ - done);
     if (time_limit_s_ > 0.0) eta = std::min(eta, std::max(0.0, time_limit_s_ - el));
     double mrays = el > 0.0 ? rays / el * 1e-6 : 0.0;
+    if (open_ended_)
+        return fmt::format("render: {} spp  elapsed {}{}  {:.1f} Mrays/s{}{}", format_spp(done),
+                           format_duration(el),
+                           time_limit_s_ > 0.0 ? "  ETA " + format_duration(std::max(0.0, time_limit_s_ - el)) : "",
+                           mrays, note_.empty() ? "" : "  ", note_);
     return fmt::format("render: {}/{} spp ({:3.0f}%)  elapsed {}  ETA {}  {:.1f} Mrays/s{}{}",
                        format_spp(done), total_, 100.0 * done / std::max(total_, 1), format_duration(el),
                        done > 0 || time_limit_s_ > 0.0 ? format_duration(eta) : "?", mrays,

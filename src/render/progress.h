@@ -28,6 +28,9 @@ class Progress {
     void step(double spp, double seconds);
     // Text appended to the line from now on (e.g. the error against a reference).
     void set_note(std::string note) { note_ = std::move(note); }
+    // No sample total to count towards (render --target-error without --spp): the line shows
+    // the samples done, and an ETA only for a time limit.
+    void set_open_ended() { open_ended_ = true; }
     // Prints the final state and ends the line; `interrupted` adds "interrupted at N spp".
     void finish(double samples_done, std::uint64_t rays, bool interrupted = false);
 
@@ -41,6 +44,7 @@ class Progress {
     bool tty_;
     bool printed_ = false;
     std::string note_;
+    bool open_ended_ = false;
     Timer timer_;
     double last_print_s_ = -1e9;
     int steps_seen_ = 0;

@@ -1,6 +1,7 @@
 #include "render/wavefront.h"
 
 #include <algorithm>
+#include <limits>
 
 #include "util/error.h"
 #include "util/host_trace.h"
@@ -18,6 +19,20 @@ void validate(const RenderSettings& s) {
         fail("depth {} is outside {} to {}", s.depth, limits::kMinDepth, limits::kMaxDepth);
     if (s.estimator.rr_depth < -1 || s.estimator.rr_depth > limits::kMaxDepth)
         fail("rr-depth {} must be -1 (off) or in 0..{}", s.estimator.rr_depth, limits::kMaxDepth);
+    if (!(s.adaptive.threshold >= limits::kMinErrorThreshold &&
+          s.adaptive.threshold <= limits::kMaxErrorThreshold))
+        fail("adaptive threshold {} is outside {} to {}", s.adaptive.threshold,
+             limits::kMinErrorThreshold, limits::kMaxErrorThreshold);
+    if (s.adaptive.min_spp < limits::kMinMinSpp || s.adaptive.min_spp > limits::kMaxSpp)
+        fail("adaptive min spp {} is outside {} to {}", s.adaptive.min_spp, limits::kMinMinSpp,
+             limits::kMaxSpp);
+}
+
+int next_error_check(int passes, int min_spp) {
+    long long c = min_spp;
+    while (c < passes)
+        c += std::max<long long>(limits::kAdaptiveMinInterval, c / limits::kAdaptiveIntervalDivisor);
+    return static_cast<int>(std::min<long long>(c, std::numeric_limits<int>::max()));
 }
 
 namespace {
@@ -25,6 +40,13 @@ namespace {
 // Room an automatic pool leaves, beyond the film, for the counters, ray totals and queue
 // lengths (a few dozen bytes) and the shadow queue's placeholders.
 constexpr std::size_t kSmallBuffersBytes = std::size_t(64) << 10;
+
+// Adaptive sampling needs the error estimate, which needs the film's sum of squares.
+RenderSettings with_implied(RenderSettings s) {
+    if (s.adaptive.enabled) s.error_estimate = true;
+    if (s.error_estimate) s.variance = true;
+    return s;
+}
 
 KernelConfig make_config(const Scene& scene, const RenderSettings& s) {
     KernelConfig c = KernelConfig::from_scene(scene, s.estimator);
@@ -37,7 +59,7 @@ KernelConfig make_config(const Scene& scene, const RenderSettings& s) {
 }  // namespace
 
 Wavefront::Wavefront(ocl::Device& dev, const Scene& scene, const RenderSettings& settings)
-    : dev_(dev), settings_((validate(settings), settings)), config_(make_config(scene, settings)),
+    : dev_(dev), settings_((validate(settings), with_implied(settings))), config_(make_config(scene, settings)),
       options_(config_.options()), memory_from_(dev.memory ? dev.memory->next_id() : 0),
       scene_(DeviceScene::upload(dev, scene, config_, settings.width, settings.height, settings.jitter)) {
     // Scene, pool, film: each buffer is checked against the device before it is created
@@ -47,7 +69,7 @@ Wavefront::Wavefront(ocl::Device& dev, const Scene& scene, const RenderSettings&
     const std::size_t reserve = film_bytes() + kSmallBuffersBytes;
     pool_ = PathPool(dev, render::pool_capacity(dev, pixels, settings.pool, config_.nee(), reserve),
                      config_.nee());
-    film_ = FilmBuffers(dev, pixels, settings.variance, settings.film_segment);
+    film_ = FilmBuffers(dev, pixels, settings_.variance, settings.film_segment);
     memory_.capacity = dev.memory ? dev.memory->capacity() : dev.info.global_mem;
     memory_.max_alloc = dev.info.max_alloc;
     if (dev.memory)
@@ -57,7 +79,7 @@ Wavefront::Wavefront(ocl::Device& dev, const Scene& scene, const RenderSettings&
     memory_.pool_paths = pool_.capacity();
     memory_.bytes_per_path = PathPool::bytes_per_path(config_.nee());
     memory_.pixels = pixels;
-    memory_.bytes_per_pixel = FilmBuffers::bytes_per_pixel(settings.variance);
+    memory_.bytes_per_pixel = FilmBuffers::bytes_per_pixel(settings_.variance);
 
     // Programs (disk-cached), one per stage, each with its slice of the configuration.
     Timer prog_timer;
@@ -67,7 +89,17 @@ Wavefront::Wavefront(ocl::Device& dev, const Scene& scene, const RenderSettings&
     intersect_ = IntersectStage(dev, settings.traversal, config_, &profiler_);
     shade_ = ShadeStage(dev, config_, &profiler_);
     if (config_.nee()) shadow_ = ShadowStage(dev, config_, &profiler_);
-    accumulate_ = AccumulateStage(dev, config_, settings.variance, &profiler_);
+    accumulate_ = AccumulateStage(dev, config_, settings_.variance, &profiler_);
+    if (settings_.error_estimate) {
+        // The active list and the per-pixel errors (8 bytes a pixel) join the film's group.
+        active_ = std::make_unique<ActivePixels>(dev, settings_.width, settings_.height, &profiler_);
+        memory_.bytes_per_pixel += ActivePixels::kBytesPerPixel;
+        if (dev.memory) {
+            memory_.buffers.clear();
+            for (auto& b : dev.memory->live())
+                if (b.id >= memory_from_) memory_.buffers.push_back(std::move(b));
+        }
+    }
     scene_.stats.program_ms = prog_timer.ms();
     dev.queue.finish();
 }
@@ -77,17 +109,25 @@ std::vector<StartupProgram> Wavefront::program_builds() const {
     for (const ocl::Program* p : {&queues_.program(), &generate_.program(), &intersect_.program(),
                                   &shade_.program(), &shadow_.program(), &accumulate_.program()})
         if (!p->file.empty()) v.push_back({p->file, p->build_ms, p->from_cache});
+    if (active_) {
+        const ocl::Program& p = active_->program();
+        v.push_back({p.file, p.build_ms, p.from_cache});
+    }
     return v;
 }
 
 std::size_t Wavefront::film_bytes() const {
-    return static_cast<std::size_t>(pixel_count()) * FilmBuffers::bytes_per_pixel(settings_.variance);
+    return static_cast<std::size_t>(pixel_count()) *
+           (FilmBuffers::bytes_per_pixel(settings_.variance) +
+            (settings_.error_estimate ? ActivePixels::kBytesPerPixel : 0));
 }
 
 int Wavefront::passes_per_wave() const {
     // A film in several segments (only images larger than the pool) runs in chunks.
     if (film_.segments.size() > 1) return 0;
-    return static_cast<int>(pool_.capacity() / static_cast<std::size_t>(pixel_count()));
+    const std::size_t n = adaptive() ? std::max<std::size_t>(active_->count(), 1)
+                                     : static_cast<std::size_t>(pixel_count());
+    return static_cast<int>(std::min<std::size_t>(pool_.capacity() / n, std::numeric_limits<int>::max()));
 }
 
 void Wavefront::reset(std::uint32_t seed) {
@@ -97,10 +137,14 @@ void Wavefront::reset(std::uint32_t seed) {
     film_.clear(dev_);
     settings_.seed = seed;
     passes_ = 0;
+    if (active_) active_->reset(dev_);
+    checked_at_ = -1;
+    adaptive_stats_ = {};
     dev_.queue.finish();
 }
 
 void Wavefront::render_passes(int passes, const std::function<void(double)>& on_wave) {
+    if (adaptive()) return render_active(passes, on_wave);
     const int n = pixel_count();
     const int per_wave = passes_per_wave();
     int done = 0;
@@ -127,15 +171,106 @@ void Wavefront::render_passes(int passes, const std::function<void(double)>& on_
     passes_ += passes;
 }
 
-void Wavefront::run_wave(int first_pixel, std::uint32_t first_sample, int count) {
+std::size_t Wavefront::active_pixels() const {
+    return adaptive() ? active_->count() : static_cast<std::size_t>(pixel_count());
+}
+
+std::vector<int> Wavefront::active_list() const {
+    if (adaptive()) return active_->list();
+    std::vector<int> v(static_cast<std::size_t>(pixel_count()));
+    for (std::size_t i = 0; i < v.size(); ++i) v[i] = static_cast<int>(i);
+    return v;
+}
+
+std::vector<int> Wavefront::sample_counts() const {
+    if (adaptive()) return active_->sample_counts(passes_);
+    return std::vector<int>(static_cast<std::size_t>(pixel_count()), passes_);
+}
+
+double Wavefront::mean_spp() const {
+    if (!adaptive()) return passes_;
+    double s = 0.0;
+    for (int c : active_->sample_counts(passes_)) s += c;
+    return s / pixel_count();
+}
+
+double Wavefront::estimate_error() {
+    if (!active_) fail("the film keeps no error estimate (render settings without error_estimate)");
+    if (passes_ < 2) return std::numeric_limits<double>::infinity();
+    // An adaptive check at this pass has just refreshed every listed pixel.
+    if (!(adaptive() && checked_at_ == passes_)) active_->refresh(dev_, film_, passes_);
+    return active_->mean_error();
+}
+
+const std::vector<float>& Wavefront::pixel_errors() const {
+    if (!active_) fail("the film keeps no error estimate (render settings without error_estimate)");
+    return active_->errors();
+}
+
+void Wavefront::check_active(int passes) {
+    if (passes == checked_at_ || next_error_check(passes, settings_.adaptive.min_spp) != passes)
+        return;
+    // The check reads the film, so it waits for the waves before it; that wait is not its
+    // cost (the device is busy with them), so the clock starts after it.
+    dev_.queue.finish();
+    Timer t;
+    active_->refresh(dev_, film_, passes);
+    active_->drop_converged(dev_, settings_.adaptive.threshold, passes);
+    checked_at_ = passes;
+    adaptive_stats_.checks += 1;
+    adaptive_stats_.check_ms += t.ms();
+}
+
+void Wavefront::render_active(int passes, const std::function<void(double)>& on_wave) {
+    int done = 0;
+    for (;;) {
+        const int now = passes_ + done;
+        check_active(now);
+        const auto active = active_->count();
+        if (done >= passes || active == 0) break;
+        // Waves never run past the next check.
+        const int until = next_error_check(now + 1, settings_.adaptive.min_spp) - now;
+        const auto sample = static_cast<std::uint32_t>(now);
+        const int a = static_cast<int>(active);
+        const int per_wave = passes_per_wave();
+        if (per_wave >= 1) {
+            // k whole passes of the active pixels in one wave.
+            const int k = std::min({per_wave, passes - done, until});
+            run_wave(0, sample, k * a, a);
+            done += k;
+            if (on_wave) on_wave(done);
+        } else {
+            // One pass of the active pixels in chunks of the pool, none straddling two film
+            // segments (the list is sorted, so a segment's pixels are one range of it).
+            const auto chunk = pool_.capacity();
+            for (const FilmSegment& seg : film_.segments) {
+                auto [b, e] = active_->range(seg);
+                for (std::size_t first = b; first < e; first += chunk) {
+                    const auto count = std::min(chunk, e - first);
+                    run_wave(static_cast<int>(first), sample, static_cast<int>(count), a);
+                    if (on_wave) on_wave(done + double(first + count) / double(a));
+                }
+            }
+            done += 1;
+        }
+    }
+    passes_ += done;
+}
+
+void Wavefront::run_wave(int first_pixel, std::uint32_t first_sample, int count, int active_count) {
     const int n = pixel_count();
     const int depth = settings_.depth;
     const bool nee = config_.nee();
     profiler_.begin_wave(double(count) / double(n));
 
     // Camera rays and fresh paths into queue 0.
-    generate_.enqueue(scene_.camera, settings_.seed, first_pixel, first_sample, count, pool_.queue[0],
-                      pool_.radiance, film_.counters);
+    if (active_count > 0)
+        generate_.enqueue_active(scene_.camera, settings_.seed, active_->device_list(), first_pixel,
+                                 active_count, first_sample, count, pool_.queue[0], pool_.radiance,
+                                 film_.counters);
+    else
+        generate_.enqueue(scene_.camera, settings_.seed, first_pixel, first_sample, count,
+                          pool_.queue[0], pool_.radiance, film_.counters);
     // `live` bounds the length of the queue the next bounce reads: the last count read back
     // (lengths only shrink within a wave).
     auto live = static_cast<std::size_t>(count);
@@ -164,14 +299,30 @@ void Wavefront::run_wave(int first_pixel, std::uint32_t first_sample, int count)
         }
     }
     // The wave's radiance into the film, pixel by pixel in sample order.
-    accumulate_.enqueue(pool_.radiance, first_pixel, count, n,
-                        film_.segment_of(static_cast<std::size_t>(first_pixel)), film_.counters);
+    if (active_count > 0) {
+        const auto p = static_cast<std::size_t>(active_->list()[static_cast<std::size_t>(first_pixel)]);
+        accumulate_.enqueue_active(pool_.radiance, active_->device_list(), first_pixel, count,
+                                   active_count, film_.segment_of(p), film_.counters);
+    } else {
+        accumulate_.enqueue(pool_.radiance, first_pixel, count, n,
+                            film_.segment_of(static_cast<std::size_t>(first_pixel)), film_.counters);
+    }
 }
 
 std::vector<FilmPixel> Wavefront::film() {
     std::vector<FilmPixel> f;
     for (const auto& seg : film_.segments) {
         auto v = seg.sum.read(dev_);
+        f.insert(f.end(), v.begin(), v.end());
+    }
+    return f;
+}
+
+std::vector<FilmPixel> Wavefront::film_squares() {
+    if (!settings_.variance) fail("the film keeps no variance (render settings without variance)");
+    std::vector<FilmPixel> f;
+    for (const auto& seg : film_.segments) {
+        auto v = seg.sum_sq.read(dev_);
         f.insert(f.end(), v.begin(), v.end());
     }
     return f;
@@ -185,23 +336,32 @@ FilmMoments Wavefront::moments() {
     if (!settings_.variance) fail("the film keeps no variance (render settings without variance)");
     const int w = settings_.width, h = settings_.height;
     FilmMoments m{Image(w, h), Image(w, h), Image(w, h)};
+    const std::vector<int> counts = adaptive() ? sample_counts() : std::vector<int>{};
     for (const auto& seg : film_.segments)
         for (std::size_t k = 0; k < seg.size; k += kResolveChunk) {
             std::size_t c = std::min(kResolveChunk, seg.size - k);
             auto s = seg.sum.read(dev_, k, c);
             auto sq = seg.sum_sq.read(dev_, k, c);
-            resolve_moments_into(s.data(), sq.data(), c, seg.first + k, passes_, m);
+            if (adaptive())
+                resolve_moments_into(s.data(), sq.data(), c, seg.first + k,
+                                     counts.data() + seg.first + k, m);
+            else
+                resolve_moments_into(s.data(), sq.data(), c, seg.first + k, passes_, m);
         }
     return m;
 }
 
 Image Wavefront::resolve() {
     Image img(settings_.width, settings_.height);
+    const std::vector<int> counts = adaptive() ? sample_counts() : std::vector<int>{};
     for (const auto& seg : film_.segments)
         for (std::size_t k = 0; k < seg.size; k += kResolveChunk) {
             std::size_t c = std::min(kResolveChunk, seg.size - k);
             auto s = seg.sum.read(dev_, k, c);
-            resolve_film_into(s.data(), c, seg.first + k, passes_, img);
+            if (adaptive())
+                resolve_film_into(s.data(), c, seg.first + k, counts.data() + seg.first + k, img);
+            else
+                resolve_film_into(s.data(), c, seg.first + k, passes_, img);
         }
     return img;
 }

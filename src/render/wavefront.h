@@ -27,6 +27,7 @@
 #include <array>
 #include <cstdint>
 #include <functional>
+#include <memory>
 #include <string>
 
 #include <CL/opencl.hpp>
@@ -34,6 +35,7 @@
 #include "cl/device.h"
 #include "cl/profiler.h"
 #include "image/image.h"
+#include "render/adaptive.h"
 #include "render/device_scene.h"
 #include "render/film.h"
 #include "render/frame_state.h"
@@ -50,6 +52,14 @@
 #include "util/limits.h"
 
 namespace wp::render {
+
+// Adaptive sampling (render/adaptive.h): after min_spp samples, pixels whose estimated relMSE
+// is <= threshold stop receiving samples.
+struct AdaptiveSettings {
+    bool enabled = false;
+    double threshold = limits::kDefaultAdaptiveThreshold;  // per-pixel estimated relMSE
+    int min_spp = limits::kDefaultMinSpp;
+};
 
 struct RenderSettings {
     int width = limits::kDefaultWidth;  // pixels
@@ -71,7 +81,16 @@ struct RenderSettings {
     // Pixels per film buffer; 0 = the most one device buffer holds (tests set small values
     // to exercise a film in several segments).
     std::size_t film_segment = 0;
+    // Adaptive sampling (implies variance and error_estimate).
+    AdaptiveSettings adaptive;
+    // Keep the per-pixel error estimates (estimate_error(); --target-error); implies variance.
+    bool error_estimate = false;
 };
+
+// The passes at which adaptive sampling checks its list (and --target-error its estimate):
+// min_spp, then every max(kAdaptiveMinInterval, c / kAdaptiveIntervalDivisor) passes after
+// the check c. Returns the first such pass >= passes.
+int next_error_check(int passes, int min_spp);
 
 // Throws wp::Error naming the setting when a value is outside limits.h.
 void validate(const RenderSettings& s);
@@ -86,14 +105,17 @@ class Wavefront {
     // call enqueued so far (fractional when one pass takes several waves, e.g. 0.25), so a
     // caller can report progress within a pass of an image larger than the pool.
     void render_passes(int passes, const std::function<void(double passes_done)>& on_wave = {});
-    // Whole passes one wave holds (0 when one pass takes several waves).
+    // Whole passes one wave holds (0 when one pass takes several waves); with adaptive
+    // sampling, passes of the active pixels.
     int passes_per_wave() const;
 
     // Starts over with another seed: clears the film, counters, ray total and profile,
     // keeping programs and scene buffers (for repeated runs of one configuration).
     void reset(std::uint32_t seed);
 
-    int frames() const { return passes_; }  // samples per pixel so far
+    // Samples per pixel so far (with adaptive sampling: of the pixels still active, the most
+    // any pixel has).
+    int frames() const { return passes_; }
     int pixel_count() const { return settings_.width * settings_.height; }
     const RenderSettings& settings() const { return settings_; }
     const KernelConfig& config() const { return config_; }
@@ -122,13 +144,45 @@ class Wavefront {
     };
     RayTotals ray_totals();                             // the same, per kind of ray
     std::vector<FilmPixel> film();                      // the raw film
+    std::vector<FilmPixel> film_squares();              // its sum of squares (with variance)
     // Mean, sample variance and variance of the mean (render/film.h); needs
     // settings.variance, else throws wp::Error.
     FilmMoments moments();
 
+    // Adaptive sampling and the error estimate (render/adaptive.h).
+    bool adaptive() const { return settings_.adaptive.enabled; }
+    // Pixels still sampled: all of them without adaptive sampling.
+    std::size_t active_pixels() const;
+    // Adaptive sampling has stopped every pixel: render_passes does nothing more.
+    bool converged() const { return adaptive() && active_pixels() == 0; }
+    // The active list (ascending pixel ids) and every pixel's sample count (frames() for all
+    // without adaptive sampling) and their mean.
+    std::vector<int> active_list() const;
+    std::vector<int> sample_counts() const;
+    double mean_spp() const;
+    // The image's estimated relMSE (mean of the per-pixel estimates) after refreshing the
+    // estimates of the active pixels (a kernel and a read of 4 bytes per active pixel);
+    // +inf before 2 samples. Needs settings.error_estimate or adaptive, else throws.
+    double estimate_error();
+    // Per pixel: the latest estimate (stopped pixels: the one they stopped with).
+    const std::vector<float>& pixel_errors() const;
+    // Checks of the active list so far and their time (kernel, read, compaction, upload;
+    // after the queue has drained).
+    struct AdaptiveStats {
+        int checks = 0;
+        double check_ms = 0.0;
+    };
+    AdaptiveStats adaptive_stats() const { return adaptive_stats_; }
+
   private:
-    // One wave of `count` samples from (first_pixel, first_sample) (generate.cl).
-    void run_wave(int first_pixel, std::uint32_t first_sample, int count);
+    // One wave of `count` samples from (first_pixel, first_sample) (generate.cl). With
+    // active_count > 0 the wave runs over the active list (adaptive sampling) and
+    // first_pixel is its first list entry (generate_camera_active).
+    void run_wave(int first_pixel, std::uint32_t first_sample, int count, int active_count = 0);
+    // render_passes with adaptive sampling: waves over the active list, checks between them.
+    void render_active(int passes, const std::function<void(double passes_done)>& on_wave);
+    // The adaptive check at pass `passes` if one is due there (next_error_check).
+    void check_active(int passes);
 
     ocl::Device& dev_;
     RenderSettings settings_;
@@ -148,6 +202,9 @@ class Wavefront {
     ShadowStage shadow_;  // built only with NEE
     AccumulateStage accumulate_;
     MemoryReport memory_;
+    std::unique_ptr<ActivePixels> active_;  // with adaptive sampling or the error estimate
+    int checked_at_ = -1;                   // passes of the latest adaptive check
+    AdaptiveStats adaptive_stats_;
     // Surviving counts read back per bounce (non-blocking; see above).
     std::array<int, 2> count_read_{};
     std::array<::cl::Event, 2> count_event_;

@@ -15,6 +15,22 @@ constexpr int kMinSpp = 1;
 constexpr int kMaxSpp = 1 << 24;
 constexpr int kDefaultSpp = 64;
 
+// Adaptive sampling and --target-error (render/adaptive.h). The thresholds are estimated
+// relMSE values (kernels/shared/adaptive.h): a pixel stops at e_p <= the threshold; a
+// --target-error render stops when the image's mean e_p <= the target. No pixel stops and no
+// estimate is trusted before kDefaultMinSpp samples (the sample variance of a few samples
+// misses rare bright paths); at least 2 (a variance needs two samples).
+constexpr double kDefaultAdaptiveThreshold = 1e-3;
+constexpr double kMinErrorThreshold = 1e-12;
+constexpr double kMaxErrorThreshold = 1e6;
+constexpr int kMinMinSpp = 2;
+constexpr int kDefaultMinSpp = 16;
+// The active list is checked at min spp, then every max(kAdaptiveMinInterval, spp /
+// kAdaptiveIntervalDivisor) passes (a pixel overshoots its stopping point by at most a
+// quarter of its samples); --target-error estimates the image's error on the same schedule.
+constexpr int kAdaptiveMinInterval = 4;
+constexpr int kAdaptiveIntervalDivisor = 4;
+
 // Bounces (scattering events) per path: 0 shows emitters and background only. The path
 // pool ends a wave when its queue is empty, so a deep cap costs nothing once Russian
 // roulette has ended every path; the cap keeps the sample-key arithmetic (bounce * 16 +

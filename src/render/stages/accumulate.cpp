@@ -11,6 +11,7 @@ AccumulateStage::AccumulateStage(const ocl::Device& dev, const KernelConfig& con
     : target_{&dev.queue, profiler},
       program_(ocl::Program::build(dev, "accumulate.cl", config.accumulate_options())),
       kernel_(program_, variance ? "accumulate_film_variance" : "accumulate_film", "accumulate"),
+      active_(program_, "accumulate_film_active", "accumulate"),
       variance_(variance) {}
 
 ::cl::Event AccumulateStage::enqueue(const ocl::Array<float4>& radiance, int first_pixel, int count,
@@ -27,6 +28,17 @@ AccumulateStage::AccumulateStage(const ocl::Device& dev, const KernelConfig& con
     if (segment.sum_sq.size == 0) fail("accumulate: the variance kernel needs a film with a sum of squares");
     return kernel_.launch(target_, items, radiance, cl_int(first_pixel), cl_int(count),
                           cl_int(pixel_count), cl_int(segment.first), segment.sum, counters,
+                          segment.sum_sq);
+}
+
+::cl::Event AccumulateStage::enqueue_active(const ocl::Array<float4>& radiance,
+                                            const ocl::Array<int>& active, int first, int count,
+                                            int active_count, const FilmSegment& segment,
+                                            const ocl::Array<int>& counters) {
+    if (segment.sum_sq.size == 0) fail("accumulate: adaptive sampling needs a film with a sum of squares");
+    const auto items = static_cast<std::size_t>(std::min(count, active_count));
+    return active_.launch(target_, items, radiance, active, cl_int(first), cl_int(count),
+                          cl_int(active_count), cl_int(segment.first), segment.sum, counters,
                           segment.sum_sq);
 }
 

@@ -20,12 +20,19 @@ class AccumulateStage {
     ::cl::Event enqueue(const ocl::Array<float4>& radiance, int first_pixel, int count,
                         int pixel_count, const FilmSegment& segment,
                         const ocl::Array<int>& counters);
+    // accumulate_film_active (adaptive sampling): the same for a wave over the active list
+    // (GenerateStage::enqueue_active); every listed pixel of the wave lies inside the
+    // segment, which must keep the sum of squares.
+    ::cl::Event enqueue_active(const ocl::Array<float4>& radiance, const ocl::Array<int>& active,
+                               int first, int count, int active_count, const FilmSegment& segment,
+                               const ocl::Array<int>& counters);
     const ocl::Program& program() const { return program_; }
 
   private:
     ocl::LaunchTarget target_;
     ocl::Program program_;
     ocl::Kernel kernel_;
+    ocl::Kernel active_;
     bool variance_ = false;
 };
 

@@ -5,7 +5,8 @@ namespace wp::render {
 GenerateStage::GenerateStage(const ocl::Device& dev, const KernelConfig& config, ocl::Profiler* profiler)
     : target_{&dev.queue, profiler},
       program_(ocl::Program::build(dev, "generate.cl", config.generate_options())),
-      kernel_(program_, "generate_camera", "generate") {}
+      kernel_(program_, "generate_camera", "generate"),
+      active_(program_, "generate_camera_active", "generate") {}
 
 ::cl::Event GenerateStage::enqueue(const CameraData& camera, std::uint32_t seed, int first_pixel,
                                    std::uint32_t first_sample, int count, const PathQueue& queue,
@@ -13,6 +14,16 @@ GenerateStage::GenerateStage(const ocl::Device& dev, const KernelConfig& config,
     return kernel_.launch(target_, static_cast<std::size_t>(count), camera, cl_uint(seed),
                           cl_int(first_pixel), cl_uint(first_sample), cl_int(count), queue.rays,
                           queue.paths, radiance, queue.count, counters);
+}
+
+::cl::Event GenerateStage::enqueue_active(const CameraData& camera, std::uint32_t seed,
+                                          const ocl::Array<int>& active, int first, int active_count,
+                                          std::uint32_t first_sample, int count, const PathQueue& queue,
+                                          const ocl::Array<float4>& radiance,
+                                          const ocl::Array<int>& counters) {
+    return active_.launch(target_, static_cast<std::size_t>(count), camera, cl_uint(seed), active,
+                          cl_int(first), cl_int(active_count), cl_uint(first_sample), cl_int(count),
+                          queue.rays, queue.paths, radiance, queue.count, counters);
 }
 
 }  // namespace wp::render

@@ -21,12 +21,19 @@ class GenerateStage {
     ::cl::Event enqueue(const CameraData& camera, std::uint32_t seed, int first_pixel,
                         std::uint32_t first_sample, int count, const PathQueue& queue,
                         const ocl::Array<float4>& radiance, const ocl::Array<int>& counters);
+    // generate_camera_active (adaptive sampling): `count` samples over the active-pixel list
+    // active[0..active_count) from list entry `first` of sample first_sample on.
+    ::cl::Event enqueue_active(const CameraData& camera, std::uint32_t seed,
+                               const ocl::Array<int>& active, int first, int active_count,
+                               std::uint32_t first_sample, int count, const PathQueue& queue,
+                               const ocl::Array<float4>& radiance, const ocl::Array<int>& counters);
     const ocl::Program& program() const { return program_; }
 
   private:
     ocl::LaunchTarget target_;
     ocl::Program program_;
     ocl::Kernel kernel_;
+    ocl::Kernel active_;
 };
 
 }  // namespace wp::render
