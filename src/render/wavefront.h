@@ -34,6 +34,7 @@
 #include "cl/device.h"
 #include "cl/profiler.h"
 #include "image/image.h"
+#include "render/aov.h"
 #include "render/device_scene.h"
 #include "render/film.h"
 #include "render/frame_state.h"
@@ -58,6 +59,9 @@ struct RenderSettings {
     std::uint32_t seed = 0;   // random stream; the same seed gives the same image
     bool jitter = true;       // random position inside each pixel (false: pixel centres)
     bool variance = false;    // also keep the per-pixel sum of squares (moments())
+    // Also record the feature buffers (albedo, normal, depth: aovs(); render/aov.h). Off:
+    // no AOV buffer is allocated and the aov program is not built.
+    bool aov = false;
     Traversal traversal = Traversal::Stackless;
     Estimator estimator;      // --sampling, --glossy, --sampler, --rr-depth
     // --kernels: the scene-specialised programs (the default) or the generic build with
@@ -125,6 +129,8 @@ class Wavefront {
     // Mean, sample variance and variance of the mean (render/film.h); needs
     // settings.variance, else throws wp::Error.
     FilmMoments moments();
+    // The feature buffers (render/aov.h); needs settings.aov, else throws wp::Error.
+    AovImages aovs();
 
   private:
     // One wave of `count` samples from (first_pixel, first_sample) (generate.cl).
@@ -147,6 +153,8 @@ class Wavefront {
     ShadeStage shade_;
     ShadowStage shadow_;  // built only with NEE
     AccumulateStage accumulate_;
+    AovBuffers aov_;      // only with settings.aov
+    AovStage aov_stage_;  // only with settings.aov
     MemoryReport memory_;
     // Surviving counts read back per bounce (non-blocking; see above).
     std::array<int, 2> count_read_{};
