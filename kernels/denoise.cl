@@ -114,16 +114,16 @@ WP_KERNEL void denoise_atrous(WP_GLOBAL const float4* in, WP_GLOBAL const float4
                 float wn = max(0.0f, dot(np, nq));
                 if (dot(np, np) == 0.0f && dot(nq, nq) == 0.0f) wn = 1.0f;
                 for (int k = 0; k < normal_squarings; ++k) wn = wn * wn;
-                // Depth against its own gradient over the tap's distance.
-                float wz = 1.0f;
+                // Depth against its own gradient over the tap's distance, luminance and
+                // albedo: their exponents summed, one exp.
+                float e = fabs(lp - wp_dn_luminance(wp_xyz(cq))) / l_scale +
+                          (fabs(ap.x - aq.x) + fabs(ap.y - aq.y) + fabs(ap.z - aq.z)) / sigma_a;
                 if (!miss_p) {
                     float dist = (float)step * sqrt((float)(i * i + j * j));
                     float tol = gp.w == FLT_MAX ? FLT_MAX : sigma_z * gp.w * dist + 1e-4f * fabs(ap.w);
-                    wz = exp(-fabs(ap.w - aq.w) / tol);
+                    e += fabs(ap.w - aq.w) / tol;
                 }
-                float wl = exp(-fabs(lp - wp_dn_luminance(wp_xyz(cq))) / l_scale);
-                float wa = exp(-(fabs(ap.x - aq.x) + fabs(ap.y - aq.y) + fabs(ap.z - aq.z)) / sigma_a);
-                wt = wt * wn * wz * wl * wa;
+                wt = wt * wn * exp(-e);
             }
             sum = sum + wp_xyz(cq) * wt;
             vsum += wt * wt * cq.w;

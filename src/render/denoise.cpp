@@ -64,16 +64,23 @@ Image Denoiser::run(const Image& color, const Image& variance, const AovImages& 
 
     const int squarings = std::countr_zero(static_cast<std::uint32_t>(s.normal_power));
     // The normals become the guide (unit normal, depth gradient) in place.
-    prepare_.launch(target_, n, color_buf, var_buf, ad_buf, guide_buf, cl_int(w), cl_int(h),
-                    cl_float(s.min_albedo), ping, guide_buf);
+    std::vector<::cl::Event> events;
+    events.push_back(prepare_.launch(target_, n, color_buf, var_buf, ad_buf, guide_buf, cl_int(w),
+                                     cl_int(h), cl_float(s.min_albedo), ping, guide_buf));
     for (int it = 0; it < s.iterations; ++it) {
-        atrous_.launch(target_, n, ping, ad_buf, guide_buf, cl_int(w), cl_int(h), cl_int(1 << it),
-                       cl_float(s.sigma_luminance), cl_float(s.sigma_depth), cl_float(s.sigma_albedo),
-                       cl_int(squarings), pong);
+        events.push_back(atrous_.launch(target_, n, ping, ad_buf, guide_buf, cl_int(w), cl_int(h),
+                                        cl_int(1 << it), cl_float(s.sigma_luminance),
+                                        cl_float(s.sigma_depth), cl_float(s.sigma_albedo),
+                                        cl_int(squarings), pong));
         std::swap(ping, pong);
     }
-    finish_.launch(target_, n, ping, ad_buf, cl_int(w), cl_int(h), cl_float(s.min_albedo), color_buf);
+    events.push_back(finish_.launch(target_, n, ping, ad_buf, cl_int(w), cl_int(h),
+                                    cl_float(s.min_albedo), color_buf));
     const std::vector<float4> out = color_buf.read(*dev_);
+    device_ms_ = 0.0;
+    for (auto& e : events)
+        device_ms_ += double(e.getProfilingInfo<CL_PROFILING_COMMAND_END>() -
+                             e.getProfilingInfo<CL_PROFILING_COMMAND_START>()) * 1e-6;
     Image img(w, h);
     for (std::size_t i = 0; i < n; ++i) {
         img.rgb[3 * i] = out[i].x;

@@ -39,12 +39,16 @@ class Denoiser {
     Image run(const Image& color, const Image& variance, const AovImages& aov,
               const DenoiseSettings& settings = {});
     const ocl::Program& program() const { return program_; }
+    // Device time of the last run's launches (prepare, iterations, finish), from their
+    // OpenCL profiling events; the host's packing, upload and read-back are not in it.
+    double last_device_ms() const { return device_ms_; }
 
   private:
     ocl::Device* dev_ = nullptr;
     ocl::LaunchTarget target_;
     ocl::Program program_;
     ocl::Kernel prepare_, atrous_, finish_;
+    double device_ms_ = 0.0;
 };
 
 }  // namespace wp::render
