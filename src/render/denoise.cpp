@@ -58,14 +58,15 @@ Image Denoiser::run(const Image& color, const Image& variance, const AovImages& 
     auto color_buf = ocl::Array<float4>::upload(*dev_, c, "the denoiser's colour");
     auto var_buf = ocl::Array<float4>::upload(*dev_, v, "the denoiser's variance");
     auto ad_buf = ocl::Array<float4>::upload(*dev_, ad, "the denoiser's albedo and depth");
-    auto guide_buf = ocl::Array<float4>::upload(*dev_, nm, "the denoiser's normals");
+    auto normal_buf = ocl::Array<float4>::upload(*dev_, nm, "the denoiser's normals");
+    auto guide_buf = ocl::Array<float4>::allocate(*dev_, n, "the denoiser's guide");
     auto ping = ocl::Array<float4>::allocate(*dev_, n, "the denoiser's image");
     auto pong = ocl::Array<float4>::allocate(*dev_, n, "the denoiser's image");
 
     const int squarings = std::countr_zero(static_cast<std::uint32_t>(s.normal_power));
-    // The normals become the guide (unit normal, depth gradient) in place.
+    // The guide: unit normal and depth gradient.
     std::vector<::cl::Event> events;
-    events.push_back(prepare_.launch(target_, n, color_buf, var_buf, ad_buf, guide_buf, cl_int(w),
+    events.push_back(prepare_.launch(target_, n, color_buf, var_buf, ad_buf, normal_buf, cl_int(w),
                                      cl_int(h), cl_float(s.min_albedo), ping, guide_buf));
     for (int it = 0; it < s.iterations; ++it) {
         events.push_back(atrous_.launch(target_, n, ping, ad_buf, guide_buf, cl_int(w), cl_int(h),
@@ -75,8 +76,8 @@ Image Denoiser::run(const Image& color, const Image& variance, const AovImages& 
         std::swap(ping, pong);
     }
     events.push_back(finish_.launch(target_, n, ping, ad_buf, cl_int(w), cl_int(h),
-                                    cl_float(s.min_albedo), color_buf));
-    const std::vector<float4> out = color_buf.read(*dev_);
+                                    cl_float(s.min_albedo), pong));
+    const std::vector<float4> out = pong.read(*dev_);
     device_ms_ = 0.0;
     for (auto& e : events)
         device_ms_ += double(e.getProfilingInfo<CL_PROFILING_COMMAND_END>() -

@@ -35,7 +35,7 @@ class Denoiser {
     // The denoised image of `color` (the noisy mean), `variance` (its variance of the
     // mean per channel: FilmMoments::mean_variance) and `aov` (all three AOVs), all of one
     // size. Throws wp::Error when the sizes differ or a setting is out of range. Blocking;
-    // allocates its device buffers (6 float4 per pixel) for the call only.
+    // allocates its device buffers (7 float4 per pixel) for the call only.
     Image run(const Image& color, const Image& variance, const AovImages& aov,
               const DenoiseSettings& settings = {});
     const ocl::Program& program() const { return program_; }
