@@ -79,7 +79,7 @@ double cos_to_axis(int x, int y, int w, int h, double vfov_deg) {
     return 1.0 / std::sqrt(1.0 + sx * sx + sy * sy);
 }
 
-}  // namespace
+} // namespace
 
 TEST_CASE("aov: a plane facing the camera: albedo, normal and depth exactly", "[render][aov]") {
     const int w = 24, h = 18;
@@ -116,8 +116,9 @@ TEST_CASE("aov: a plane facing the camera: albedo, normal and depth exactly", "[
     }
 }
 
-TEST_CASE("aov: misses give albedo 0, normal 0 and depth +inf; the back face's normal faces the camera",
-          "[render][aov]") {
+TEST_CASE(
+    "aov: misses give albedo 0, normal 0 and depth +inf; the back face's normal faces the camera",
+    "[render][aov]") {
     const int w = 20, h = 16;
     Scene sc = base_scene(w, h);
     // A small quad seen from its back (it faces -z, away from the camera): the normal AOV
@@ -135,7 +136,8 @@ TEST_CASE("aov: misses give albedo 0, normal 0 and depth +inf; the back face's n
     CHECK(r.aov.depth[c] == Approx(5.0 / cos_to_axis(w / 2, h / 2, w, h, 40.0)).epsilon(2e-6));
 }
 
-TEST_CASE("aov: through a mirror, the AOVs are the diffuse wall's, at the path's length", "[render][aov]") {
+TEST_CASE("aov: through a mirror, the AOVs are the diffuse wall's, at the path's length",
+          "[render][aov]") {
     const int w = 16, h = 12;
     Scene sc = base_scene(w, h);
     Material mirror;
@@ -151,10 +153,11 @@ TEST_CASE("aov: through a mirror, the AOVs are the diffuse wall's, at the path's
         for (int x = 0; x < w; ++x) {
             INFO("pixel " << x << ", " << y);
             CHECK(r.aov.albedo.pixel(x, y)[1] == wall.y);
-            CHECK(r.aov.normal.pixel(x, y)[2] == -1.0f);  // the wall's normal, facing the ray
+            CHECK(r.aov.normal.pixel(x, y)[2] == -1.0f); // the wall's normal, facing the ray
             // 5 / cos to the mirror, then 10 / cos to the wall.
             const double expect = 15.0 / cos_to_axis(x, y, w, h, 40.0);
-            worst = std::max(worst, std::abs(r.aov.depth[std::size_t(y) * w + x] - expect) / expect);
+            worst =
+                std::max(worst, std::abs(r.aov.depth[std::size_t(y) * w + x] - expect) / expect);
         }
     // The reflected ray starts off the mirror by its scale-free offset (offset.h: it grows
     // with the 200-unit quad's coordinates), about 1e-4 here.
@@ -175,7 +178,8 @@ TEST_CASE("aov: the generic kernels give the same AOVs", "[render][aov]") {
     CHECK(a.aov.albedo.rgb == b.aov.albedo.rgb);
     CHECK(a.aov.normal.rgb == b.aov.normal.rgb);
     for (std::size_t i = 0; i < a.aov.depth.size(); ++i)
-        CHECK((a.aov.depth[i] == b.aov.depth[i] || (std::isinf(a.aov.depth[i]) && std::isinf(b.aov.depth[i]))));
+        CHECK((a.aov.depth[i] == b.aov.depth[i] ||
+               (std::isinf(a.aov.depth[i]) && std::isinf(b.aov.depth[i]))));
 }
 
 TEST_CASE("aov: a render without AOVs allocates none and builds no aov program", "[render][aov]") {
@@ -204,7 +208,8 @@ TEST_CASE("aov: a render without AOVs allocates none and builds no aov program",
     render::Wavefront wf(test::device(), sc, s);
     CHECK(has_aov_buffer(wf));
     CHECK(has_aov_program(wf));
-    CHECK(wf.memory().bytes_per_pixel == render::FilmBuffers::bytes_per_pixel(false) + render::AovBuffers::kBytesPerPixel);
+    CHECK(wf.memory().bytes_per_pixel ==
+          render::FilmBuffers::bytes_per_pixel(false) + render::AovBuffers::kBytesPerPixel);
 }
 
 TEST_CASE("aov: --aov lists: names, all, unknown and repeated names", "[unit][aov]") {
@@ -232,7 +237,8 @@ TEST_CASE("aov: --aov lists: names, all, unknown and repeated names", "[unit][ao
 TEST_CASE("render CLI: --aov writes named EXR channels and PNG previews; bad lists fail",
           "[render][cli][aov]") {
     test::TempDir d;
-    auto r = test::run_render(d.path, "--size 32x24 --spp 2 --aov albedo,normal,depth --aov-png -o out.exr");
+    auto r = test::run_render(
+        d.path, "--size 32x24 --spp 2 --aov albedo,normal,depth --aov-png -o out.exr");
     INFO(r.err);
     REQUIRE(r.status == 0);
     ChannelImage img = read_image_channels(d.path / "out.exr");

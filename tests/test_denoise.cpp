@@ -27,8 +27,10 @@ struct Inputs {
     Image color, variance;
     render::AovImages aov;
     Inputs(int w, int h)
-        : color(w, h), variance(w, h), aov{Image(w, h), Image(w, h), std::vector<float>(std::size_t(w) * h)} {}
-    void set(int x, int y, glm::vec3 c, float var, glm::vec3 albedo, glm::vec3 normal, float depth) {
+        : color(w, h),
+          variance(w, h), aov{Image(w, h), Image(w, h), std::vector<float>(std::size_t(w) * h)} {}
+    void set(int x, int y, glm::vec3 c, float var, glm::vec3 albedo, glm::vec3 normal,
+             float depth) {
         float* pc = color.pixel(x, y);
         float* pv = variance.pixel(x, y);
         float* pa = aov.albedo.pixel(x, y);
@@ -48,7 +50,8 @@ struct Gauss {
     test::Rng rng;
     explicit Gauss(std::uint64_t seed) : rng(seed) {}
     double next() {
-        double u1 = (double(rng.next() >> 11) + 0.5) * 0x1.0p-53, u2 = double(rng.next() >> 11) * 0x1.0p-53;
+        double u1 = (double(rng.next() >> 11) + 0.5) * 0x1.0p-53,
+               u2 = double(rng.next() >> 11) * 0x1.0p-53;
         return std::sqrt(-2.0 * std::log(u1)) * std::cos(2.0 * M_PI * u2);
     }
 };
@@ -61,7 +64,8 @@ render::Denoiser& denoiser() {
 // Mean of channel 0 over column x of rows [0, h).
 double column_mean(const Image& img, int x) {
     double s = 0.0;
-    for (int y = 0; y < img.height; ++y) s += img.pixel(x, y)[0];
+    for (int y = 0; y < img.height; ++y)
+        s += img.pixel(x, y)[0];
     return s / img.height;
 }
 
@@ -108,17 +112,19 @@ void check_step(const Step& s, const Image& out, double tol) {
 
 double image_mean(const Image& img) {
     double s = 0.0;
-    for (float v : img.rgb) s += v;
+    for (float v : img.rgb)
+        s += v;
     return s / img.rgb.size();
 }
 
 double image_sd(const Image& img, double mean) {
     double s = 0.0;
-    for (float v : img.rgb) s += (v - mean) * (v - mean);
+    for (float v : img.rgb)
+        s += (v - mean) * (v - mean);
     return std::sqrt(s / img.rgb.size());
 }
 
-}  // namespace
+} // namespace
 
 TEST_CASE("denoise: a constant image stays constant", "[kernel][denoise]") {
     const int w = 40, h = 30;
@@ -126,10 +132,13 @@ TEST_CASE("denoise: a constant image stays constant", "[kernel][denoise]") {
     for (float var : {0.0f, 0.01f, 10.0f})
         for (float depth : {3.0f, std::numeric_limits<float>::infinity()}) {
             Inputs in(w, h);
-            const glm::vec3 albedo = std::isinf(depth) ? glm::vec3(0.0f) : glm::vec3(0.5f, 0.25f, 0.8f);
-            const glm::vec3 normal = std::isinf(depth) ? glm::vec3(0.0f) : glm::vec3(0.0f, 0.6f, 0.8f);
+            const glm::vec3 albedo =
+                std::isinf(depth) ? glm::vec3(0.0f) : glm::vec3(0.5f, 0.25f, 0.8f);
+            const glm::vec3 normal =
+                std::isinf(depth) ? glm::vec3(0.0f) : glm::vec3(0.0f, 0.6f, 0.8f);
             for (int y = 0; y < h; ++y)
-                for (int x = 0; x < w; ++x) in.set(x, y, c, var, albedo, normal, depth);
+                for (int x = 0; x < w; ++x)
+                    in.set(x, y, c, var, albedo, normal, depth);
             Image out = denoiser().run(in.color, in.variance, in.aov);
             REQUIRE(out.width == w);
             REQUIRE(out.height == h);
@@ -137,13 +146,17 @@ TEST_CASE("denoise: a constant image stays constant", "[kernel][denoise]") {
             for (std::size_t i = 0; i < out.rgb.size(); ++i)
                 worst = std::max(worst, std::abs(double(out.rgb[i]) - c[i % 3]) / c[i % 3]);
             INFO("variance " << var << ", depth " << depth);
-            CHECK(worst < 1e-6);  // a few float roundings
+            CHECK(worst < 1e-6); // a few float roundings
         }
 }
 
 TEST_CASE("denoise: an albedo step stays a step", "[kernel][denoise]") {
-    Step s{64, 32, {0.2f, 0.8f}, {glm::vec3(0.2f), glm::vec3(0.8f)},
-           {glm::vec3(0, 0, 1), glm::vec3(0, 0, 1)}, {5.0f, 5.0f}};
+    Step s{64,
+           32,
+           {0.2f, 0.8f},
+           {glm::vec3(0.2f), glm::vec3(0.8f)},
+           {glm::vec3(0, 0, 1), glm::vec3(0, 0, 1)},
+           {5.0f, 5.0f}};
     Inputs in = make_step(s, 11);
     Image out = denoiser().run(in.color, in.variance, in.aov);
     check_step(s, out, 0.05);
@@ -151,19 +164,31 @@ TEST_CASE("denoise: an albedo step stays a step", "[kernel][denoise]") {
 
 TEST_CASE("denoise: a normal step and a depth step stay steps", "[kernel][denoise]") {
     // Same albedo on both sides: only the normals (90 degrees apart) tell the sides apart.
-    Step n{64, 32, {0.2f, 0.8f}, {glm::vec3(0.5f), glm::vec3(0.5f)},
-           {glm::vec3(0, 0, 1), glm::vec3(1, 0, 0)}, {5.0f, 5.0f}};
+    Step n{64,
+           32,
+           {0.2f, 0.8f},
+           {glm::vec3(0.5f), glm::vec3(0.5f)},
+           {glm::vec3(0, 0, 1), glm::vec3(1, 0, 0)},
+           {5.0f, 5.0f}};
     Inputs in = make_step(n, 12);
     check_step(n, denoiser().run(in.color, in.variance, in.aov), 0.05);
     // Only the depth: a near plane (2) beside a far one (20), both facing the camera.
-    Step z{64, 32, {0.8f, 0.2f}, {glm::vec3(0.5f), glm::vec3(0.5f)},
-           {glm::vec3(0, 0, 1), glm::vec3(0, 0, 1)}, {2.0f, 20.0f}};
+    Step z{64,
+           32,
+           {0.8f, 0.2f},
+           {glm::vec3(0.5f), glm::vec3(0.5f)},
+           {glm::vec3(0, 0, 1), glm::vec3(0, 0, 1)},
+           {2.0f, 20.0f}};
     in = make_step(z, 13);
     check_step(z, denoiser().run(in.color, in.variance, in.aov), 0.05);
     // A surface beside nothing (a miss: albedo, normal 0, depth +inf) and a bright
     // background.
-    Step m{64, 32, {0.3f, 2.0f}, {glm::vec3(0.5f), glm::vec3(0.0f)},
-           {glm::vec3(0, 0, 1), glm::vec3(0.0f)}, {5.0f, std::numeric_limits<float>::infinity()}};
+    Step m{64,
+           32,
+           {0.3f, 2.0f},
+           {glm::vec3(0.5f), glm::vec3(0.0f)},
+           {glm::vec3(0, 0, 1), glm::vec3(0.0f)},
+           {5.0f, std::numeric_limits<float>::infinity()}};
     in = make_step(m, 14);
     check_step(m, denoiser().run(in.color, in.variance, in.aov), 0.05);
 }
@@ -193,13 +218,15 @@ TEST_CASE("denoise: the mean is kept and the noise falls", "[kernel][denoise]") 
 TEST_CASE("denoise: mismatched inputs and bad settings are errors", "[kernel][denoise]") {
     Inputs in(8, 6);
     Inputs small(4, 6);
-    CHECK_THROWS_WITH(denoiser().run(in.color, small.variance, in.aov), Catch::Contains("variance"));
+    CHECK_THROWS_WITH(denoiser().run(in.color, small.variance, in.aov),
+                      Catch::Contains("variance"));
     render::AovImages bad = in.aov;
     bad.depth.pop_back();
     CHECK_THROWS_WITH(denoiser().run(in.color, in.variance, bad), Catch::Contains("depth"));
     render::DenoiseSettings s;
     s.normal_power = 100;
-    CHECK_THROWS_WITH(denoiser().run(in.color, in.variance, in.aov, s), Catch::Contains("power of two"));
+    CHECK_THROWS_WITH(denoiser().run(in.color, in.variance, in.aov, s),
+                      Catch::Contains("power of two"));
 }
 
 // The built-in box at 64x48, 16 spp (depth 3, as the stored reference): the denoised image
@@ -221,9 +248,10 @@ TEST_CASE("denoise: a noisy render of the built-in box gets a lower relMSE", "[r
     render::render_frames(wf, lo, nullptr);
     render::FilmMoments m = wf.moments();
     const Image out = denoiser().run(m.mean, m.mean_variance, wf.aovs());
-    const double noisy = compare_images(m.mean, ref).relmse, denoised = compare_images(out, ref).relmse;
+    const double noisy = compare_images(m.mean, ref).relmse,
+                 denoised = compare_images(out, ref).relmse;
     INFO("relMSE noisy " << noisy << ", denoised " << denoised);
-    CHECK(denoised < 0.25 * noisy);  // issue 16: at most a quarter at 16 spp (measured: 0.1)
+    CHECK(denoised < 0.25 * noisy); // issue 16: at most a quarter at 16 spp (measured: 0.1)
 }
 
 TEST_CASE("render CLI: --denoise writes OUT denoised and OUT.noisy.exr", "[render][cli][denoise]") {
@@ -233,7 +261,8 @@ TEST_CASE("render CLI: --denoise writes OUT denoised and OUT.noisy.exr", "[rende
     REQUIRE(r.status == 0);
     REQUIRE(fs::exists(d.path / "out.exr"));
     REQUIRE(fs::exists(d.path / "out.noisy.exr"));
-    CHECK(read_image_attribute(d.path / "out.exr", "wavepath:denoised") == std::optional<std::string>("1"));
+    CHECK(read_image_attribute(d.path / "out.exr", "wavepath:denoised") ==
+          std::optional<std::string>("1"));
     CHECK_FALSE(read_image_attribute(d.path / "out.noisy.exr", "wavepath:denoised").has_value());
     // --denoise alone writes no AOV channels.
     CHECK(read_image_channels(d.path / "out.exr").names.size() == 3);

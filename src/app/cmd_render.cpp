@@ -91,9 +91,11 @@ void write_output(const fs::path& path, const Image& img, const render::AovSet& 
     std::vector<ImageChannel> ch = {{"R", img.rgb.data(), 3, 0}, {"G", img.rgb.data(), 3, 1},
                                     {"B", img.rgb.data(), 3, 2}};
     if (set.albedo)
-        for (int c = 0; c < 3; ++c) ch.push_back({std::string("albedo.") + "RGB"[c], aov->albedo.rgb.data(), 3, std::size_t(c)});
+        for (int c = 0; c < 3; ++c)
+            ch.push_back({std::string("albedo.") + "RGB"[c], aov->albedo.rgb.data(), 3, std::size_t(c)});
     if (set.normal)
-        for (int c = 0; c < 3; ++c) ch.push_back({std::string("normal.") + "XYZ"[c], aov->normal.rgb.data(), 3, std::size_t(c)});
+        for (int c = 0; c < 3; ++c)
+            ch.push_back({std::string("normal.") + "XYZ"[c], aov->normal.rgb.data(), 3, std::size_t(c)});
     if (set.depth) ch.push_back({"depth.Z", aov->depth.data(), 1, 0});
     write_exr_channels(path, img.width, img.height, ch, attrs);
 }

@@ -13,20 +13,22 @@ namespace wp::render {
 AovSet parse_aov_list(const std::string& list) {
     AovSet s;
     std::size_t i = 0;
-    if (list.empty()) usage_fail("--aov: empty list (expected a comma list of albedo, normal, depth, or all)");
+    if (list.empty())
+        usage_fail("--aov: empty list (expected a comma list of albedo, normal, depth, or all)");
     while (i <= list.size()) {
         std::size_t j = list.find(',', i);
         if (j == std::string::npos) j = list.size();
         const std::string name = list.substr(i, j - i);
-        bool* flag = name == "albedo" ? &s.albedo
+        bool* flag = name == "albedo"   ? &s.albedo
                      : name == "normal" ? &s.normal
                      : name == "depth"  ? &s.depth
                                         : nullptr;
         if (name == "all") {
             s = AovSet::all();
         } else if (!flag) {
-            usage_fail("--aov: unknown AOV '{}' (expected a comma list of albedo, normal, depth, or all)",
-                       name);
+            usage_fail(
+                "--aov: unknown AOV '{}' (expected a comma list of albedo, normal, depth, or all)",
+                name);
         } else {
             if (*flag) usage_fail("--aov: '{}' is listed twice", name);
             *flag = true;
@@ -59,15 +61,15 @@ const AovSegment& AovBuffers::segment_of(std::size_t p) const {
 }
 
 void AovBuffers::clear(const ocl::Device& dev) const {
-    for (const auto& s : segments) s.sums.fill_zero(dev);
+    for (const auto& s : segments)
+        s.sums.fill_zero(dev);
 }
 
 AovStage::AovStage(const ocl::Device& dev, const KernelConfig& config, ocl::Profiler* profiler)
     : target_{&dev.queue, profiler},
       program_(ocl::Program::build(dev, "aov.cl", config.aov_options())),
       record_(program_, "aov_record", "aov.record"),
-      accumulate_(program_, "aov_accumulate", "aov.accumulate"),
-      specular_(config.any_specular()) {}
+      accumulate_(program_, "aov_accumulate", "aov.accumulate"), specular_(config.any_specular()) {}
 
 ::cl::Event AovStage::record(std::size_t launch, const PathQueue& in, const ocl::Array<Hit>& hits,
                              const ShadingScene& scene, int bounce, const AovBuffers& aov) {
@@ -123,11 +125,13 @@ Image aov_preview_depth(const AovImages& a) {
         if (std::isfinite(d)) dmax = std::max(dmax, d);
     for (std::size_t i = 0; i < a.depth.size(); ++i) {
         const float d = a.depth[i];
-        double e = !std::isfinite(d) ? 1.0 : dmax > 0.0f ? std::clamp(double(d) / dmax, 0.0, 1.0) : 0.0;
+        double e = !std::isfinite(d) ? 1.0
+                   : dmax > 0.0f     ? std::clamp(double(d) / dmax, 0.0, 1.0)
+                                     : 0.0;
         const float v = static_cast<float>(srgb_decode(e));
         img.rgb[3 * i] = img.rgb[3 * i + 1] = img.rgb[3 * i + 2] = v;
     }
     return img;
 }
 
-}  // namespace wp::render
+} // namespace wp::render

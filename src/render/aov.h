@@ -42,28 +42,28 @@ AovSet parse_aov_list(const std::string& list);
 struct AovImages {
     Image albedo;
     Image normal;
-    std::vector<float> depth;  // one per pixel
+    std::vector<float> depth; // one per pixel
 };
 
 // The device side: per pooled path two float4 (the sample's AOVs), per film pixel two
 // float4 (their sums), cut into the same segments as the film.
 struct AovSegment {
     std::size_t first = 0, size = 0;
-    ocl::Array<float4> sums;  // 2 per pixel
+    ocl::Array<float4> sums; // 2 per pixel
 };
 
 struct AovBuffers {
     static constexpr std::size_t kBytesPerPath = 2 * sizeof(float4);
     static constexpr std::size_t kBytesPerPixel = 2 * sizeof(float4);
 
-    ocl::Array<float4> items;  // 2 per pooled path
+    ocl::Array<float4> items; // 2 per pooled path
     std::vector<AovSegment> segments;
 
     AovBuffers() = default;
     // In the pool's and film's memory groups; `film` gives the segments.
     AovBuffers(const ocl::Device& dev, std::size_t pool_capacity, const FilmBuffers& film);
     const AovSegment& segment_of(std::size_t p) const;
-    void clear(const ocl::Device& dev) const;  // zeroes the sums (enqueued)
+    void clear(const ocl::Device& dev) const; // zeroes the sums (enqueued)
 };
 
 // The aov stage (kernels/aov.cl) with the config's aov slice.
@@ -104,4 +104,4 @@ void resolve_aovs_into(const float4* sums, std::size_t count, std::size_t first,
 Image aov_preview_normal(const AovImages& a);
 Image aov_preview_depth(const AovImages& a);
 
-}  // namespace wp::render
+} // namespace wp::render

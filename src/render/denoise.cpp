@@ -9,8 +9,7 @@
 namespace wp::render {
 
 Denoiser::Denoiser(ocl::Device& dev, ocl::Profiler* profiler)
-    : dev_(&dev), target_{&dev.queue, profiler},
-      program_(ocl::Program::build(dev, "denoise.cl")),
+    : dev_(&dev), target_{&dev.queue, profiler}, program_(ocl::Program::build(dev, "denoise.cl")),
       prepare_(program_, "denoise_prepare", "denoise.prepare"),
       atrous_(program_, "denoise_atrous", "denoise.atrous"),
       finish_(program_, "denoise_finish", "denoise.finish") {}
@@ -19,10 +18,11 @@ namespace {
 
 void check_same_size(const Image& a, const Image& b, const char* what) {
     if (a.width != b.width || a.height != b.height)
-        fail("denoise: the {} is {}x{}, the colour {}x{}", what, b.width, b.height, a.width, a.height);
+        fail("denoise: the {} is {}x{}, the colour {}x{}", what, b.width, b.height, a.width,
+             a.height);
 }
 
-}  // namespace
+} // namespace
 
 Image Denoiser::run(const Image& color, const Image& variance, const AovImages& aov,
                     const DenoiseSettings& s) {
@@ -33,9 +33,11 @@ Image Denoiser::run(const Image& color, const Image& variance, const AovImages& 
     check_same_size(color, aov.albedo, "albedo AOV");
     check_same_size(color, aov.normal, "normal AOV");
     const std::size_t n = static_cast<std::size_t>(w) * h;
-    if (aov.depth.size() != n) fail("denoise: the depth AOV holds {} pixels, expected {}", aov.depth.size(), n);
+    if (aov.depth.size() != n)
+        fail("denoise: the depth AOV holds {} pixels, expected {}", aov.depth.size(), n);
     if (s.iterations < 0 || s.iterations > limits::kMaxDenoiseIterations)
-        fail("denoise: {} iterations is outside 0..{}", s.iterations, limits::kMaxDenoiseIterations);
+        fail("denoise: {} iterations is outside 0..{}", s.iterations,
+             limits::kMaxDenoiseIterations);
     if (s.normal_power < 1 || !std::has_single_bit(static_cast<std::uint32_t>(s.normal_power)))
         fail("denoise: the normal power {} is not a power of two", s.normal_power);
     if (!(s.sigma_luminance > 0.0f) || !(s.sigma_depth > 0.0f) || !(s.sigma_albedo > 0.0f) ||
@@ -81,7 +83,8 @@ Image Denoiser::run(const Image& color, const Image& variance, const AovImages& 
     device_ms_ = 0.0;
     for (auto& e : events)
         device_ms_ += double(e.getProfilingInfo<CL_PROFILING_COMMAND_END>() -
-                             e.getProfilingInfo<CL_PROFILING_COMMAND_START>()) * 1e-6;
+                             e.getProfilingInfo<CL_PROFILING_COMMAND_START>()) *
+                      1e-6;
     Image img(w, h);
     for (std::size_t i = 0; i < n; ++i) {
         img.rgb[3 * i] = out[i].x;
@@ -91,4 +94,4 @@ Image Denoiser::run(const Image& color, const Image& variance, const AovImages& 
     return img;
 }
 
-}  // namespace wp::render
+} // namespace wp::render

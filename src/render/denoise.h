@@ -17,9 +17,9 @@
 namespace wp::render {
 
 struct DenoiseSettings {
-    int iterations = limits::kDenoiseIterations;  // à-trous steps 1, 2, 4, ..., 2^(iterations-1)
+    int iterations = limits::kDenoiseIterations; // à-trous steps 1, 2, 4, ..., 2^(iterations-1)
     float sigma_luminance = limits::kDenoiseSigmaLuminance;
-    int normal_power = limits::kDenoiseNormalPower;  // a power of two, 1..2^30
+    int normal_power = limits::kDenoiseNormalPower; // a power of two, 1..2^30
     float sigma_depth = limits::kDenoiseSigmaDepth;
     float sigma_albedo = limits::kDenoiseSigmaAlbedo;
     float min_albedo = limits::kDenoiseMinAlbedo;
@@ -51,4 +51,4 @@ class Denoiser {
     double device_ms_ = 0.0;
 };
 
-}  // namespace wp::render
+} // namespace wp::render

@@ -56,9 +56,11 @@ Wavefront::Wavefront(ocl::Device& dev, const Scene& scene, const RenderSettings&
             if (b.id >= memory_from_) memory_.buffers.push_back(std::move(b));
     memory_.triangles = scene_.stats.triangles;
     memory_.pool_paths = pool_.capacity();
-    memory_.bytes_per_path = PathPool::bytes_per_path(config_.nee()) + (settings.aov ? AovBuffers::kBytesPerPath : 0);
+    memory_.bytes_per_path =
+        PathPool::bytes_per_path(config_.nee()) + (settings.aov ? AovBuffers::kBytesPerPath : 0);
     memory_.pixels = pixels;
-    memory_.bytes_per_pixel = FilmBuffers::bytes_per_pixel(settings.variance) + (settings.aov ? AovBuffers::kBytesPerPixel : 0);
+    memory_.bytes_per_pixel = FilmBuffers::bytes_per_pixel(settings.variance) +
+                              (settings.aov ? AovBuffers::kBytesPerPixel : 0);
 
     // Programs (disk-cached), one per stage, each with its slice of the configuration.
     Timer prog_timer;
@@ -85,7 +87,8 @@ std::vector<StartupProgram> Wavefront::program_builds() const {
 
 std::size_t Wavefront::film_bytes() const {
     return static_cast<std::size_t>(pixel_count()) *
-           (FilmBuffers::bytes_per_pixel(settings_.variance) + (settings_.aov ? AovBuffers::kBytesPerPixel : 0));
+           (FilmBuffers::bytes_per_pixel(settings_.variance) +
+            (settings_.aov ? AovBuffers::kBytesPerPixel : 0));
 }
 
 int Wavefront::passes_per_wave() const {
@@ -150,7 +153,8 @@ void Wavefront::run_wave(int first_pixel, std::uint32_t first_sample, int count)
         // Closest hits of the queued rays.
         intersect_.enqueue(live, in, scene_.bvh, pool_.hits, &scene_.shading.tex);
         // Feature buffers at the first non-specular hit (render --aov, --denoise).
-        if (settings_.aov && aov_stage_.record_at(b)) aov_stage_.record(live, in, pool_.hits, scene_.shading, b, aov_);
+        if (settings_.aov && aov_stage_.record_at(b))
+            aov_stage_.record(live, in, pool_.hits, scene_.shading, b, aov_);
         // Empty the queues shade fills (and count this bounce's rays).
         queues_.enqueue_reset(in.count, out.count, pool_.shadow.count, film_.ray_total);
         // Emission, scattering, light samples, push of the survivors.
@@ -174,7 +178,8 @@ void Wavefront::run_wave(int first_pixel, std::uint32_t first_sample, int count)
     accumulate_.enqueue(pool_.radiance, first_pixel, count, n,
                         film_.segment_of(static_cast<std::size_t>(first_pixel)), film_.counters);
     if (settings_.aov)
-        aov_stage_.accumulate(aov_, first_pixel, count, n, aov_.segment_of(static_cast<std::size_t>(first_pixel)));
+        aov_stage_.accumulate(aov_, first_pixel, count, n,
+                              aov_.segment_of(static_cast<std::size_t>(first_pixel)));
 }
 
 std::vector<FilmPixel> Wavefront::film() {
