@@ -443,10 +443,12 @@ WP_FN int wp_shade_path(Ray ray, PathState path, Hit hit, WP_GLOBAL const Triang
     return 1;
 }
 
-// The pushes are aggregated per work-group: survivors take slots from a local counter, and
-// one work-item reserves the group's range with a single global atomic add (so 1 global
-// atomic per 64 paths instead of one per path), for each queue. Every work-item reaches
-// the barriers.
+// The pushes are aggregated per work-group: every work-item posts what it pushes in a
+// local array, work-item 0 turns that into slots (a prefix sum in work-item order) and
+// reserves the group's range with a single global atomic add per queue (1 global atomic
+// per WP_GROUP_SIZE paths instead of one per path). No local atomics: on PoCL a work-group
+// runs on one thread, where each local atomic_inc was a locked instruction per path (5.6 %
+// of shade's samples under perf). Every work-item reaches the barriers.
 WP_KERNEL void shade_surface(WP_GLOBAL const Ray* rays_in, WP_GLOBAL const PathState* paths_in,
                              WP_GLOBAL const int* count_in, WP_GLOBAL const Hit* hits,
                              WP_GLOBAL const Triangle* tris, WP_GLOBAL const int* material_ids,
@@ -469,14 +471,12 @@ WP_KERNEL void shade_surface(WP_GLOBAL const Ray* rays_in, WP_GLOBAL const PathS
                              WP_GLOBAL PathState* paths_out, WP_GLOBAL int* count_out,
                              WP_GLOBAL Ray* shadow_rays, WP_GLOBAL int* shadow_items,
                              WP_GLOBAL float4* shadow_contrib, WP_GLOBAL int* shadow_count) {
-    WP_LOCAL int group_count, group_base, shadow_group_count, shadow_group_base;
+    // posts[lid]: bit 0 pushes a path, bit 1 a shadow ray; then (work-item 0) the path slot
+    // in bits 0-15 and the shadow slot in bits 16-31, relative to the group's bases.
+    WP_LOCAL int posts[WP_GROUP_SIZE];
+    WP_LOCAL int group_base, shadow_group_base;
     int i = wp_global_id();
     int lid = wp_local_id();
-    if (lid == 0) {
-        group_count = 0;
-        shadow_group_count = 0;
-    }
-    wp_barrier();
 
     LightTable lights;
     lights.cdf = light_cdf;
@@ -510,15 +510,21 @@ WP_KERNEL void shade_surface(WP_GLOBAL const Ray* rays_in, WP_GLOBAL const PathS
                              radiance, counters, &next_ray, &next_path, &shadow, &shadow_ray,
                              &contrib);
     }
-    int local_slot = push ? wp_atomic_inc(&group_count) : 0;
-    int shadow_local_slot = shadow ? wp_atomic_inc(&shadow_group_count) : 0;
+    posts[lid] = (push ? 1 : 0) | (shadow ? 2 : 0);
     wp_barrier();
     if (lid == 0) {
-        group_base = group_count > 0 ? wp_atomic_add(count_out, group_count) : 0;
-        shadow_group_base =
-            shadow_group_count > 0 ? wp_atomic_add(shadow_count, shadow_group_count) : 0;
+        int paths = 0, shadows = 0;
+        for (int j = 0; j < WP_GROUP_SIZE; ++j) {
+            int post = posts[j];
+            posts[j] = paths | (shadows << 16);
+            paths += post & 1;
+            shadows += post >> 1;
+        }
+        group_base = paths > 0 ? wp_atomic_add(count_out, paths) : 0;
+        shadow_group_base = shadows > 0 ? wp_atomic_add(shadow_count, shadows) : 0;
     }
     wp_barrier();
+    int local_slot = posts[lid] & 0xffff, shadow_local_slot = posts[lid] >> 16;
     if (push) {
         int slot = group_base + local_slot;
         rays_out[slot] = next_ray;

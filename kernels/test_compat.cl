@@ -1,7 +1,7 @@
 // test_compat.cl — the compatibility layer's own test (tests/test_compat.cpp): each work-item
 // runs the compat.h functions that differ between OpenCL C and the C++/CUDA definitions
-// (lane permutes, masks, min/max, bit casts, ctz, float3 algebra) on its inputs, and the
-// host compares the results with the same calls compiled as C++. A lane in the wrong slot
+// (lane permutes, masks and lane reads of four and eight lanes, min/max, bit casts, ctz,
+// float3 algebra) on its inputs, and the host compares the results with the same calls compiled as C++. A lane in the wrong slot
 // (LuxCore's vstore4 .w once was) fails here, not in a render.
 //
 // probe_compat
@@ -30,15 +30,17 @@ WP_KERNEL void probe_compat(WP_GLOBAL const float4* a, WP_GLOBAL const float4* b
     fo[5] = wp_float4(cross(x3, y3), dot(x3, y3));
     fo[6] = wp_float4(fabs(x3) + copysign(y3, x3), wp_max_component(x3));
     fo[7] = wp_float4(normalize(x3), length(x3));
-    fo[8] = make_float4(wp_lane4(x, (int)idx[i].x), wp_lane8(wp_splat8(y.z), (int)idx[i].y),
+    // Eight lanes from two float4s, so that lane order is seen (a splat would hide it).
+    float8 xy = wp_float8(x, y), yx = wp_float8(y, x), yy = wp_float8(y, y);
+    fo[8] = make_float4(wp_lane4(x, (int)idx[i].x), wp_lane8(xy, (int)idx[i].y + 4 * (i & 1)),
                         clamp(x.x, -0.5f, 0.5f), as_float(as_uint(x.y) ^ 0x80000000u));
     fo[9] = make_float4(fmin(x.x, y.x), fmax(x.y, y.y), sqrt(fabs(x.z)), floor(x.w));
     no[0] = wp_mask4_le(x, y);
     no[1] = wp_mask4_lt(x, y);
     no[2] = wp_mask4_eq(x, y);
-    no[3] = wp_mask8_le(wp_splat8(x.x), wp_splat8(y.x));
-    no[4] = wp_mask8_lt(wp_splat8(x.y), wp_splat8(y.y));
-    no[5] = wp_mask8_eq(wp_splat8(x.z), wp_splat8(y.z));
+    no[3] = wp_mask8_le(xy, yx) | (wp_mask8_le(wp_splat8(x.x), wp_splat8(y.x)) << 8);
+    no[4] = wp_mask8_lt(xy, yx) | (wp_mask8_lt(wp_splat8(x.y), wp_splat8(y.y)) << 8);
+    no[5] = wp_mask8_eq(xy, yy) | (wp_mask8_eq(wp_splat8(x.z), wp_splat8(y.z)) << 8);
     no[6] = wp_ctz32((uint)bits[i] | 0x80000000u);
     no[7] = wp_ctz64(bits[i]);
     no[8] = as_int(x.x);

@@ -16,6 +16,10 @@
 
 WP_NAMESPACE_BEGIN
 
+// The one local size of every launch (the host's ocl::kLocalSize is this): kernels that
+// share work within a group (shade.cl's queue reservation) size their local arrays by it.
+#define WP_GROUP_SIZE 64
+
 // A ray: origin + [tmin, tmax) along an unnormalised direction. 32 bytes.
 typedef struct Ray {
     float4 org;  // xyz: origin (world units); w: tmin, hits need t > tmin

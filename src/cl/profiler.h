@@ -17,9 +17,11 @@
 #include <string>
 #include <vector>
 
+#include "shared/types.h"
+
 namespace wp::ocl {
 
-constexpr std::size_t kLocalSize = 64;
+constexpr std::size_t kLocalSize = WP_GROUP_SIZE;  // kernels/shared/types.h
 
 struct LaunchRecord {
     std::string name;
