@@ -181,3 +181,33 @@ TEST_CASE("the traversals compiled for the host match the kernels", "[kernel][in
     CHECK(differ == 0);
     CHECK(any_differ == 0);
 }
+
+// The stackless traversal's ring of recent pending ancestors only saves re-tests: with a
+// ring of 1 (overrun at every second pending level, so the up-link climb and re-test run
+// often), 2 or the default, every hit equals the stack oracle's bit for bit, and the
+// smaller rings do more box tests (the fallback really ran).
+TEST_CASE("stackless traversal: the ancestor ring's size never changes a hit", "[kernel][intersect]") {
+    Mesh soup = make_random_soup(20000, 9, {-1, -1, -1}, {1, 1, 1}, 0.05f);
+    Fixture f = make_fixture(std::move(soup));
+    auto rays = test::random_rays(20000, 3, f.lo, f.hi);
+    auto want = tracer().trace(f.gpu, rays, bvh::TraceVariant::Stack);
+    long tests_default = 0;
+    for (int ring : {0, 1, 2}) {
+        bvh::BatchTracer t(test::device(), true, ring ? "-D WP_BVH_SHORT_STACK=" + std::to_string(ring) : "");
+        std::vector<TraceStats> st;
+        auto got = t.trace(f.gpu, rays, bvh::TraceVariant::Stackless, &st);
+        auto any = t.trace(f.gpu, rays, bvh::TraceVariant::Any);
+        int differ = 0, occl = 0;
+        long box_tests = 0;
+        for (std::size_t i = 0; i < rays.size(); ++i) {
+            if (std::memcmp(&got[i], &want[i], sizeof(Hit)) != 0) ++differ;
+            if ((any[i].prim >= 0) != (want[i].prim >= 0)) ++occl;
+            box_tests += st[i].box_tests;
+        }
+        INFO("ring " << (ring ? ring : WP_BVH_SHORT_STACK) << ": " << box_tests << " box tests");
+        CHECK(differ == 0);
+        CHECK(occl == 0);
+        if (ring == 0) tests_default = box_tests;
+        else CHECK(box_tests > tests_default);
+    }
+}

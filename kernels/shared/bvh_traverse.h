@@ -10,6 +10,8 @@
 //     the nearest child that comes after the one it came from in (entry t, slot) order,
 //     so near-first order is kept without storing it. After Áfra & Szirmay-Kalos,
 //     "Stackless Multi-BVH Traversal for CPU, MIC and GPU Ray Tracing", CGF 33(1), 2014.
+//     A ring of the WP_BVH_SHORT_STACK (4) most recent pending ancestors spares most climbs
+//     and re-tests (wp_trace_stackless); the order and the hits do not depend on it.
 //   * wp_trace_closest_stack: the same order with a private stack of (child, entry t);
 //     the oracle and the speed reference for the stackless one.
 //   * wp_trace_any: stackless like wp_trace_closest, but children in slot order, and it
@@ -239,6 +241,15 @@ WP_FN Hit wp_miss(Ray ray) {
 }
 
 // Stackless traversal shared by closest hit (ordered) and any hit (slot order, early out).
+//
+// A climb normally re-tests the ancestor's boxes to find the children it has left. A short
+// ring of the WP_BVH_SHORT_STACK most recent such ancestors (node, candidates left, entry
+// distances) saves that: the deepest pending ancestor is always the newest entry, and its
+// candidates are the stored ones still entered before the current closest hit — the very
+// set the re-test gives (same entry distances, the cull only tighter), so the visiting
+// order and the hits are unchanged. When the ring has been overrun (deeper than its size)
+// the climb falls back to the up-links and the re-test. The state stays bounded (the
+// 64-bit word, the ring, no stack that grows with depth).
 WP_FN Hit wp_trace_stackless(Ray ray, WP_GLOBAL const BvhNode* nodes,
                              WP_GLOBAL const BvhLinks* links, WP_GLOBAL const Triangle* tris,
                              WP_GLOBAL const int* prim_ids, int any_hit, TraceStats* stats WP_ALPHA_PARAM) {
@@ -248,13 +259,22 @@ WP_FN Hit wp_trace_stackless(Ray ray, WP_GLOBAL const BvhNode* nodes,
     ulong bits = 0;  // bit k: the ancestor k + 1 levels above `cur` may have children left
     int cur = 0;
     int sc = -1;     // slot of the child we climbed back from; -1 on a first visit
+    int ring_node[WP_BVH_SHORT_STACK];
+    int ring_cand[WP_BVH_SHORT_STACK];
+    WpLanes ring_tn[WP_BVH_SHORT_STACK];
+    int ring_top = 0, ring_count = 0;  // the newest entry; how many entries are valid
+    WpLanes tn = wp_wsplat(0.0f);
+    int cand = 0;
+    int resume = 0;  // cand and tn of `cur` came from the ring: no box test
     for (;;) {
-        WpLanes tn;
-        int cand = wp_intersect_node(&br, nodes + cur, hit.t * WP_HIT_CULL_SCALE, &tn);
+        if (!resume) {
+            cand = wp_intersect_node(&br, nodes + cur, hit.t * WP_HIT_CULL_SCALE, &tn);
 #if defined(WP_STATS)
-        stats->box_tests += WP_BVH_WIDTH;
+            stats->box_tests += WP_BVH_WIDTH;
 #endif
-        if (sc >= 0) cand &= any_hit ? WP_SLOTS_AFTER(sc) : wp_after(tn, sc);
+            if (sc >= 0) cand &= any_hit ? WP_SLOTS_AFTER(sc) : wp_after(tn, sc);
+        }
+        resume = 0;
         // Children in order: leaves at once, the first interior child is descended into.
         int next = -1;
         while (cand != 0) {
@@ -272,15 +292,32 @@ WP_FN Hit wp_trace_stackless(Ray ray, WP_GLOBAL const BvhNode* nodes,
             }
         }
         if (next >= 0) {
+            if (cand != 0) {
+                ring_top = (ring_top + 1) & (WP_BVH_SHORT_STACK - 1);
+                ring_node[ring_top] = cur;
+                ring_cand[ring_top] = cand;
+                ring_tn[ring_top] = tn;
+                ring_count = min(ring_count + 1, WP_BVH_SHORT_STACK);
+            }
             bits = (bits << 1) | (cand != 0 ? 1u : 0u);
             cur = next;
             sc = -1;
             continue;
         }
-        // Climb to the deepest ancestor that may have children left, and re-test it.
+        // Climb to the deepest ancestor that may have children left: from the ring, or by
+        // the up-links and a re-test.
         if (bits == 0) return hit;
         int k = wp_ctz64(bits);
         bits = (bits >> k) >> 1;
+        if (ring_count > 0) {
+            cur = ring_node[ring_top];
+            tn = ring_tn[ring_top];
+            cand = ring_cand[ring_top] & wp_wmask_le(tn, wp_wsplat(hit.t * WP_HIT_CULL_SCALE));
+            ring_top = (ring_top - 1) & (WP_BVH_SHORT_STACK - 1);
+            --ring_count;
+            resume = 1;
+            continue;
+        }
         for (int j = 0; j <= k; ++j) {
             BvhLinks l = links[cur];
             sc = l.slot;

@@ -119,6 +119,11 @@ typedef struct BvhLinks {
 // The stackless traversal keeps one bit per level in a 64-bit word: the builder caps the
 // number of interior levels of the binary tree at this, and collapsing never adds levels.
 #define WP_BVH_MAX_DEPTH 64
+// Entries of the stackless traversal's ring of recent pending ancestors (bvh_traverse.h;
+// a power of two).
+#ifndef WP_BVH_SHORT_STACK
+#define WP_BVH_SHORT_STACK 4
+#endif
 // Entries of the small-stack (oracle) traversal: at most WIDTH - 1 pending children a level.
 #define WP_BVH_STACK_SIZE ((WP_BVH_WIDTH - 1) * WP_BVH_MAX_DEPTH)
 

@@ -39,6 +39,8 @@ BatchTracer::BatchTracer(const ocl::Device& dev, bool stats, const std::string& 
                                  TraceVariant v, const ::cl::Buffer* stats, ocl::Profiler* profiler) {
     ocl::Kernel& k = v == TraceVariant::Stackless ? closest_ : v == TraceVariant::Stack ? stack_ : any_;
     if (stats && !stats_) fail("BatchTracer: statistics requested from a tracer built without them");
+    // A WP_STATS kernel writes stats[i] for every ray: never into the one-element placeholder.
+    if (stats_ && !stats) fail("BatchTracer: a tracer built with statistics needs a statistics buffer");
     // *_batch(rays, count, nodes, links, tris, prim_ids, hits, stats)
     return k.launch({&dev_.queue, profiler}, static_cast<std::size_t>(count), rays, count,
                     bvh.nodes, bvh.links, bvh.triangles, bvh.prim_ids, hits,
@@ -54,8 +56,8 @@ std::vector<Hit> BatchTracer::trace(const DeviceBvh& bvh, const std::vector<Ray>
     ::cl::Buffer hb = dev_.create_buffer(CL_MEM_WRITE_ONLY, n * sizeof(Hit), "the hit batch");
     dev_.queue.enqueueWriteBuffer(rb, CL_FALSE, 0, n * sizeof(Ray), rays.data());
     ::cl::Buffer sb;
-    if (stats) sb = dev_.create_buffer(CL_MEM_WRITE_ONLY, n * sizeof(TraceStats), "the trace statistics");
-    enqueue(bvh, rb, static_cast<int>(n), hb, v, stats ? &sb : nullptr);
+    if (stats_) sb = dev_.create_buffer(CL_MEM_WRITE_ONLY, n * sizeof(TraceStats), "the trace statistics");
+    enqueue(bvh, rb, static_cast<int>(n), hb, v, stats_ ? &sb : nullptr);
     dev_.queue.enqueueReadBuffer(hb, CL_TRUE, 0, n * sizeof(Hit), hits.data());
     if (stats) {
         stats->resize(n);
