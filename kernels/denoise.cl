@@ -24,6 +24,17 @@
 //                      1 between two misses, 0 between a miss and a hit;
 //           depth      exp(-|z_p - z_q| / (σ_z |∇z_p| |p - q| + ε)); misses as above;
 //           albedo     exp(-Σ_c |a_p - a_q| / σ_a).
+//         sigma_l <= 0 leaves the luminance term out (the residual pass below).
+// denoise_combine
+// reads   a[p], b[p]
+// writes  out[p] = (a + k b, 0): with k = -1 the residual of the filter (the input less the
+//         filtered image), with k = 1 the filtered image plus the filtered residual.
+//         Energy restore: the luminance weight is asymmetric (a pixel's tolerance is its
+//         own variance), so a pixel that drew a rare bright sample is averaged down while
+//         its neighbours reject it, and the filtered image is darker than the input on
+//         skewed (path-traced) noise. The residual, filtered by the guides alone
+//         (sigma_l <= 0: normals, depth, albedo; render/denoise.h restore_iterations), puts
+//         that energy back spread over the surface it came from.
 // denoise_finish
 // reads   illum[p], albedo_depth[p]
 // writes  out[p] = (illum × albedo where it was divided out, 0)
@@ -95,8 +106,10 @@ WP_KERNEL void denoise_atrous(WP_GLOBAL const float4* in, WP_GLOBAL const float4
     float3 np = wp_xyz(gp);
     const int miss_p = !isfinite(ap.w);
     const float lp = wp_dn_luminance(wp_xyz(cp));
-    // Luminance tolerance from the prefiltered variance (SVGF eq. 5).
-    const float l_scale = sigma_l * sqrt(max(wp_dn_variance3(in, x, y, w, h), 0.0f)) + 1e-10f;
+    // Luminance tolerance from the prefiltered variance (SVGF eq. 5); none with sigma_l <= 0.
+    const int luminance = sigma_l > 0.0f;
+    const float l_scale =
+        luminance ? sigma_l * sqrt(max(wp_dn_variance3(in, x, y, w, h), 0.0f)) + 1e-10f : 1.0f;
     float3 sum = make_float3(0.0f, 0.0f, 0.0f);
     float wsum = 0.0f, vsum = 0.0f;
     for (int j = -2; j <= 2; ++j)
@@ -116,8 +129,8 @@ WP_KERNEL void denoise_atrous(WP_GLOBAL const float4* in, WP_GLOBAL const float4
                 for (int k = 0; k < normal_squarings; ++k) wn = wn * wn;
                 // Depth against its own gradient over the tap's distance, luminance and
                 // albedo: their exponents summed, one exp.
-                float e = fabs(lp - wp_dn_luminance(wp_xyz(cq))) / l_scale +
-                          (fabs(ap.x - aq.x) + fabs(ap.y - aq.y) + fabs(ap.z - aq.z)) / sigma_a;
+                float e = (fabs(ap.x - aq.x) + fabs(ap.y - aq.y) + fabs(ap.z - aq.z)) / sigma_a;
+                if (luminance) e += fabs(lp - wp_dn_luminance(wp_xyz(cq))) / l_scale;
                 if (!miss_p) {
                     float dist = (float)step * sqrt((float)(i * i + j * j));
                     float tol = gp.w == FLT_MAX ? FLT_MAX : sigma_z * gp.w * dist + 1e-4f * fabs(ap.w);
@@ -131,6 +144,14 @@ WP_KERNEL void denoise_atrous(WP_GLOBAL const float4* in, WP_GLOBAL const float4
         }
     // The centre tap always counts, so wsum > 0.
     out[p] = wp_float4(sum * (1.0f / wsum), vsum / (wsum * wsum));
+}
+
+WP_KERNEL void denoise_combine(WP_GLOBAL const float4* a, WP_GLOBAL const float4* b, int w, int h,
+                               float k, WP_GLOBAL float4* out) {
+    int p = wp_global_id();
+    if (p >= w * h) return;
+    float4 x = a[p], y = b[p];
+    out[p] = make_float4(x.x + k * y.x, x.y + k * y.y, x.z + k * y.z, 0.0f);
 }
 
 WP_KERNEL void denoise_finish(WP_GLOBAL const float4* illum, WP_GLOBAL const float4* albedo_depth,

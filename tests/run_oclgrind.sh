@@ -52,7 +52,7 @@ if [ -n "$wavepath" ]; then
       --ref-variance "$dir/pocl.var.exr" --min-pass 0.9975 --max-relmse 1e-9 || status=1
   done
   # The feature buffers (aov stage, through the box's mirror) and the denoise stage.
-  args=(render builtin:cornell-box --size 8x6 --spp 2 --depth 3 --seed 3 --aov all --denoise -q)
+  args=(render builtin:cornell-box --size 8x6 --spp 2 --depth 3 --seed 3 --sampler random --aov all --denoise -q)
   : >"$log"
   echo "run_oclgrind: oclgrind --check-api --data-races wavepath ${args[*]}"
   "$oclgrind" --check-api --data-races --log "$log" "$wavepath" "${args[@]}" -o "$dir/dn.exr" || status=1

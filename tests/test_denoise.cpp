@@ -215,6 +215,41 @@ TEST_CASE("denoise: the mean is kept and the noise falls", "[kernel][denoise]") 
     CHECK(image_sd(out, mean_out) < 0.2 * image_sd(in.color, mean_in));
 }
 
+// Path-traced noise is skewed: a pixel's 16 samples are 0.1 each, or 10 with probability
+// 0.04 (a rare bright path); expectation 0.496. The SVGF luminance weight alone darkens
+// such an image (the bright pixels are averaged down, their neighbours reject them); the
+// energy restore puts the residual back.
+TEST_CASE("denoise: skewed noise keeps its mean (energy restore)", "[kernel][denoise]") {
+    const int w = 96, h = 64, spp = 16;
+    const double truth = 0.04 * 10.0 + 0.96 * 0.1;
+    Inputs in(w, h);
+    test::Rng rng(31);
+    for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x) {
+            double s1 = 0.0, s2 = 0.0;
+            for (int k = 0; k < spp; ++k) {
+                const double v = rng.uniform() < 0.04f ? 10.0 : 0.1;
+                s1 += v;
+                s2 += v * v;
+            }
+            const double mean = s1 / spp, var = (s2 - s1 * mean) / (spp - 1) / spp;
+            in.set(x, y, glm::vec3(float(mean)), float(var), glm::vec3(0.7f), glm::vec3(0, 0, 1), 4.0f);
+        }
+    const double mean_in = image_mean(in.color);
+    // The input: within 4 standard errors of the truth (per pixel sd 1.96/4 = 0.49).
+    CHECK(std::abs(mean_in - truth) < 4.0 * 0.49 / std::sqrt(double(w) * h));
+    render::DenoiseSettings off;
+    off.restore_iterations = 0;
+    const double mean_off = image_mean(denoiser().run(in.color, in.variance, in.aov, off));
+    const Image out = denoiser().run(in.color, in.variance, in.aov);
+    const double mean_out = image_mean(out);
+    INFO("mean: truth " << truth << ", noisy " << mean_in << ", without restore " << mean_off
+                        << ", denoised " << mean_out);
+    CHECK(mean_off < 0.95 * mean_in);  // what the restore is for (measured: 9.5 % darker)
+    CHECK(std::abs(mean_out - mean_in) < 0.01 * mean_in);  // within 1 % of the input's mean
+    CHECK(image_sd(out, mean_out) < 0.5 * image_sd(in.color, mean_in));
+}
+
 TEST_CASE("denoise: mismatched inputs and bad settings are errors", "[kernel][denoise]") {
     Inputs in(8, 6);
     Inputs small(4, 6);

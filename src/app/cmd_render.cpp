@@ -364,10 +364,10 @@ int run_render(const RenderArgs& a) {
                    names);
         fmt::print("kernel options: {}\n", wf.options());
         if (a.denoise)
-            fmt::print("denoised in {:.1f} ms ({:.1f} ms on the device, {} a-trous iterations; "
-                       "program {:.1f} ms); the denoised image is biased\n",
+            fmt::print("denoised in {:.1f} ms ({:.1f} ms on the device, {} + {} a-trous "
+                       "iterations; program {:.1f} ms); the denoised image is biased\n",
                        denoise_ms, denoise_device_ms, render::DenoiseSettings{}.iterations,
-                       denoise_program_ms);
+                       render::DenoiseSettings{}.restore_iterations, denoise_program_ms);
         if (err)
             fmt::print("error against {}{}: {} (relMSE eps 1e-2); largest |difference| {:.3e} at "
                        "pixel ({}, {})\n",
@@ -418,6 +418,7 @@ int run_render(const RenderArgs& a) {
             j["denoise"] = {{"ms", denoise_ms}, {"device_ms", denoise_device_ms},
                             {"program_ms", denoise_program_ms},
                             {"iterations", render::DenoiseSettings{}.iterations},
+                            {"restore_iterations", render::DenoiseSettings{}.restore_iterations},
                             {"noisy_outputs", noisy}, {"biased", true}};
             if (err_noisy) j["denoise"]["relmse_noisy"] = err_noisy->relmse;
         }

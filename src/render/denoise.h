@@ -23,19 +23,22 @@ struct DenoiseSettings {
     float sigma_depth = limits::kDenoiseSigmaDepth;
     float sigma_albedo = limits::kDenoiseSigmaAlbedo;
     float min_albedo = limits::kDenoiseMinAlbedo;
+    // Energy restore (kernels/denoise.cl, denoise_combine): à-trous iterations over the
+    // filter's residual with the guides alone; 0: none.
+    int restore_iterations = limits::kDenoiseRestoreIterations;
 };
 
 class Denoiser {
   public:
     Denoiser() = default;
-    // Builds denoise.cl. Launches are profiled as denoise.prepare, denoise.atrous and
-    // denoise.finish when a profiler is given.
+    // Builds denoise.cl. Launches are profiled as denoise.prepare, denoise.atrous,
+    // denoise.combine and denoise.finish when a profiler is given.
     explicit Denoiser(ocl::Device& dev, ocl::Profiler* profiler = nullptr);
 
     // The denoised image of `color` (the noisy mean), `variance` (its variance of the
     // mean per channel: FilmMoments::mean_variance) and `aov` (all three AOVs), all of one
     // size. Throws wp::Error when the sizes differ or a setting is out of range. Blocking;
-    // allocates its device buffers (7 float4 per pixel) for the call only.
+    // allocates its device buffers (8 float4 per pixel) for the call only.
     Image run(const Image& color, const Image& variance, const AovImages& aov,
               const DenoiseSettings& settings = {});
     const ocl::Program& program() const { return program_; }
@@ -47,8 +50,8 @@ class Denoiser {
     ocl::Device* dev_ = nullptr;
     ocl::LaunchTarget target_;
     ocl::Program program_;
-    ocl::Kernel prepare_, atrous_, finish_;
+    ocl::Kernel prepare_, atrous_, combine_, finish_;
     double device_ms_ = 0.0;
 };
 
-} // namespace wp::render
+}  // namespace wp::render
