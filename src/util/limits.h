@@ -96,6 +96,22 @@ constexpr float kDefaultMicrofacetAlpha = 0.1f;
 constexpr float kMinIor = 0.01f;
 constexpr float kMaxIor = 100.0f;
 
+// The denoise stage (render/denoise.h, kernels/denoise.cl; docs/denoise.md): à-trous
+// iterations (step 1, 2, 4, ... pixels) and the edge-stopping parameters of SVGF (Schied et
+// al. 2017): luminance against sqrt(variance) (σ_l), normals (cos^σ_n; σ_n a power of two,
+// applied by squaring), depth against its screen-space gradient (σ_z); albedo (σ_a,
+// wavepath's own: exp(-Σ|Δalbedo| / σ_a)). Albedo below kDenoiseMinAlbedo per channel is
+// not divided out (misses, black surfaces).
+constexpr int kDenoiseIterations = 5;
+constexpr int kMaxDenoiseIterations = 12;
+constexpr float kDenoiseSigmaLuminance = 4.0f;
+constexpr int kDenoiseNormalPower = 128;
+constexpr float kDenoiseSigmaDepth = 1.0f;
+constexpr float kDenoiseSigmaAlbedo = 0.1f;
+constexpr float kDenoiseMinAlbedo = 1e-3f;
+// The energy restore's iterations over the filter's residual (0: off; docs/denoise.md).
+constexpr int kDenoiseRestoreIterations = 5;
+
 // The estimator's defaults (sampling, glossy model, sampler, Russian roulette) are
 // kernels/shared/estimator.h's, read by the kernels and render::Estimator alike.
 
