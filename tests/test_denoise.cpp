@@ -5,8 +5,14 @@
 #include <catch2/catch.hpp>
 
 #include <cmath>
+#include <cstdlib>
 #include <filesystem>
+#include <fstream>
+#include <iterator>
 #include <limits>
+#include <map>
+#include <sstream>
+#include <string>
 #include <vector>
 
 #include "image/image.h"
@@ -307,4 +313,41 @@ TEST_CASE("render CLI: --denoise writes OUT denoised and OUT.noisy.exr", "[rende
     REQUIRE(r.status == 0);
     for (const char* f : {"render.exr", "render.png", "render.noisy.exr", "render.noisy.png"})
         CHECK(fs::exists(e.path / f));
+}
+
+// converge measures a "--denoise" configuration by its denoised image: at every checkpoint
+// of the same seed the plain configuration's image is the noisy input, so at 4 and 8 spp
+// the denoised error must be well below it (the 64x48 test above: about a tenth), and its
+// seconds include the denoise. --denoise with --adaptive is a usage error.
+TEST_CASE("converge CLI: a --denoise configuration beside the plain one", "[cli][denoise]") {
+    test::TempDir d;
+    auto run = [&](const std::string& configs) {
+        const std::string cmd = "cd '" + d.path.string() + "' && '" WP_CLI_PATH
+                                "' converge --time 0.4 --runs 1 --reference-spp 256 --csv c.csv -q --max-spp 8 " +
+                                configs + " > out.txt 2> err.txt";
+        return std::system(cmd.c_str());
+    };
+    REQUIRE(run("--config 'plain=--size 48x36' --config 'den=--size 48x36 --denoise'") == 0);
+    std::ifstream in(d.path / "c.csv");
+    std::string line;
+    std::getline(in, line);
+    std::map<std::pair<std::string, int>, std::pair<double, double>> at;  // (config, spp) -> (relmse, s)
+    while (std::getline(in, line)) {
+        std::vector<std::string> f;
+        std::stringstream ss(line);
+        for (std::string x; std::getline(ss, x, ',');) f.push_back(x);
+        REQUIRE(f.size() == 9);
+        at[{f[0], std::stoi(f[3])}] = {std::stod(f[6]), std::stod(f[4])};
+    }
+    for (int spp : {4, 8}) {
+        INFO("spp " << spp);
+        REQUIRE(at.count({"plain", spp}));
+        REQUIRE(at.count({"den", spp}));
+        CHECK(at[{"den", spp}].first < 0.5 * at[{"plain", spp}].first);
+        CHECK(at[{"den", spp}].second > 0.0);
+    }
+    std::ifstream out(d.path / "out.txt");
+    std::string text((std::istreambuf_iterator<char>(out)), std::istreambuf_iterator<char>());
+    CHECK(text.find("den (denoised: biased)") != std::string::npos);
+    CHECK(run("--config 'x=--size 48x36 --denoise --adaptive'") >> 8 == 2);
 }

@@ -19,9 +19,10 @@
 // Strategies side by side: a configuration may use adaptive sampling ("--adaptive
 // [--adaptive-threshold X --min-spp N]", render/adaptive.h); its spp column is then the
 // most samples any pixel has, and mean_spp the mean over pixels. The time of its checks is
-// render time. A post-process (a denoiser) plugs in at checkpoint_image() below: whatever
-// it costs is added to the run's seconds, so equal time stays equal time; its errors are
-// those of a biased image (say so wherever they are reported).
+// render time. A configuration with "--denoise" is measured by wavepath's denoised image
+// (render/denoise.h) at each checkpoint: the time of that one denoise is added to the
+// checkpoint's seconds (the render so far plus one denoise, so equal time stays equal
+// time), and its errors are those of a biased image (the table says so).
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
@@ -38,11 +39,13 @@
 #include "cl/device.h"
 #include "image/image.h"
 #include "image/stats.h"
+#include "render/denoise.h"
 #include "render/loop.h"
 #include "render/reference.h"
 #include "render/wavefront.h"
 #include "util/atomic_file.h"
 #include "util/error.h"
+#include "util/timer.h"
 
 namespace wp::app {
 
@@ -69,6 +72,7 @@ struct Config {
     std::string name;
     std::string options;
     ConfigArgs args;
+    bool denoise = false;  // "--denoise": measured by the denoised image (biased)
 };
 
 struct Row {
@@ -81,11 +85,17 @@ struct Row {
     double mean_spp = 0.0;  // the mean over pixels (adaptive sampling); else spp
 };
 
-// The image a configuration is measured by at a checkpoint: the film's mean. A post-process
-// of the configuration (e.g. a denoiser) goes here, adding its time to *extra_s.
-Image checkpoint_image(render::Wavefront& wf, const Config& /*config*/, double* extra_s) {
-    *extra_s += 0.0;
-    return wf.resolve();
+// The image a configuration is measured by at a checkpoint: the film's mean, or with
+// --denoise its denoised image, whose time is returned in *post_s (0 otherwise).
+Image checkpoint_image(render::Wavefront& wf, const Config& config, render::Denoiser* denoiser,
+                       double* post_s) {
+    *post_s = 0.0;
+    if (!config.denoise) return wf.resolve();
+    Timer t;
+    render::FilmMoments m = wf.moments();
+    Image img = denoiser->run(m.mean, m.mean_variance, wf.aovs());
+    *post_s = t.ms() / 1000.0;
+    return img;
 }
 
 // Parses "NAME=OPTIONS" with the render configuration options.
@@ -96,14 +106,28 @@ Config parse_config(const std::string& spec) {
     Config c{spec.substr(0, eq), spec.substr(eq + 1), {}};
     if (c.name.find_first_of(",\"\n") != std::string::npos)
         usage_fail("--config '{}': the name must not contain commas or quotes", spec);
+    // --denoise is converge's own (render has it as an output option): taken out here.
+    std::string options;
+    for (std::size_t i = 0; i < c.options.size();) {
+        std::size_t j = c.options.find_first_of(" \t", i);
+        if (j == std::string::npos) j = c.options.size();
+        std::string word = c.options.substr(i, j - i);
+        if (word == "--denoise")
+            c.denoise = true;
+        else if (!word.empty())
+            options += (options.empty() ? "" : " ") + word;
+        i = j + 1;
+    }
     CLI::App parser{"configuration"};
     add_config_options(&parser, c.args);
     try {
-        parser.parse(c.options, false);
+        parser.parse(options, false);
     } catch (const CLI::ParseError& e) {
-        usage_fail("--config '{}': {} (a configuration takes --depth, --size, --device, --traversal, --sampling, --glossy, --sampler, --rr-depth, --pool, --kernels, --adaptive, --adaptive-threshold, --min-spp)",
+        usage_fail("--config '{}': {} (a configuration takes --depth, --size, --device, --traversal, --sampling, --glossy, --sampler, --rr-depth, --pool, --kernels, --adaptive, --adaptive-threshold, --min-spp, --denoise)",
              spec, e.what());
     }
+    if (c.denoise && c.args.adaptive)
+        usage_fail("--config '{}': --denoise cannot be combined with --adaptive yet", spec);
     return c;
 }
 
@@ -155,7 +179,11 @@ int run_converge(const ConvergeArgs& a) {
     check_writable(a.csv, "--csv", false);
     Scene scene = load_scene(a.scene, a.quiet);
     std::vector<render::RenderSettings> settings;
-    for (const auto& c : configs) settings.push_back(make_settings(c.args, scene));
+    for (const auto& c : configs) {
+        settings.push_back(make_settings(c.args, scene));
+        // The denoiser reads the film's variance and every AOV.
+        if (c.denoise) settings.back().variance = settings.back().aov = true;
+    }
 
     // 2. The reference: given (size checked now), or rendered here with its own seed.
     render::Reference ref;
@@ -192,6 +220,7 @@ int run_converge(const ConvergeArgs& a) {
     // 3. Every configuration's device and Wavefront first, so a bad one fails before any run.
     std::vector<std::unique_ptr<ocl::Device>> devices;
     std::vector<std::unique_ptr<render::Wavefront>> wavefronts;
+    std::vector<std::unique_ptr<render::Denoiser>> denoisers;  // with --denoise (program built now)
     for (std::size_t ci = 0; ci < configs.size(); ++ci) {
         devices.push_back(std::make_unique<ocl::Device>(ocl::Device::open(configs[ci].args.device)));
         try {
@@ -201,6 +230,8 @@ int run_converge(const ConvergeArgs& a) {
             fail("--config '{}={}': {}", configs[ci].name, configs[ci].options, e.what());
         }
         wavefronts.back()->render_passes(1);  // warm-up: kernel JIT per local size happens here
+        denoisers.push_back(configs[ci].denoise ? std::make_unique<render::Denoiser>(*devices.back())
+                                                : nullptr);
     }
 
     // 4. Runs.
@@ -214,9 +245,9 @@ int run_converge(const ConvergeArgs& a) {
             std::uint32_t seed = a.seed + static_cast<std::uint32_t>(run);
             wf.reset(seed);
             std::vector<Row> rr;
-            double post_s = 0.0;  // post-process time so far (checkpoint_image)
             auto record = [&](int frames, double seconds) {
-                Image img = checkpoint_image(wf, c, &post_s);
+                double post_s = 0.0;  // this checkpoint's denoise (checkpoint_image)
+                Image img = checkpoint_image(wf, c, denoisers[ci].get(), &post_s);
                 rr.push_back({c.name, run, seed, frames, seconds + post_s,
                               compare_images(img, ref.image), wf.mean_spp()});
             };
@@ -278,7 +309,8 @@ int run_converge(const ConvergeArgs& a) {
                                                      tt.size(), rel.size());
         std::string spp_text = fmt::format("{:.0f}", mean_of(spp));
         if (c.args.adaptive) spp_text += fmt::format(" (mean {:.1f})", mean_of(mspp));
-        fmt::print("| {} | {} | {} | {:.3e} ± {:.1e} | {:.3g} | {} |\n", c.name,
+        fmt::print("| {}{} | {} | {} | {:.3e} ± {:.1e} | {:.3g} | {} |\n", c.name,
+                   c.denoise ? " (denoised: biased)" : "",
                    c.options.empty() ? "(defaults)" : c.options, spp_text, mean_of(rel),
                    sd_of(rel), eff, ttext);
     }
@@ -319,9 +351,11 @@ Subcommand add_converge(CLI::App& app) {
     c->add_option("--config", args->configs,
                   "A configuration NAME=OPTIONS, OPTIONS being render options (--depth, --size, "
                   "--device, --traversal, --sampling, --glossy, --sampler, --rr-depth, --pool, "
-                  "--kernels, --adaptive, --adaptive-threshold, --min-spp), e.g. \"d2=--depth 2 "
+                  "--kernels, --adaptive, --adaptive-threshold, --min-spp, --denoise), e.g. \"d2=--depth 2 "
                   "--size 200x150\" or \"adaptive=--adaptive --adaptive-threshold 1e-3\"; repeatable. "
-                  "With --adaptive the spp column is the most samples a pixel got and mean_spp the mean")
+                  "With --adaptive the spp column is the most samples a pixel got and mean_spp the mean; "
+                  "with --denoise the error is the denoised image's (biased) and its seconds include "
+                  "one denoise")
         ->take_all()
         ->allow_extra_args(false);
     c->add_option("--csv", args->csv, "CSV output")->capture_default_str();
