@@ -110,7 +110,7 @@ constexpr float kDenoiseSigmaDepth = 1.0f;
 constexpr float kDenoiseSigmaAlbedo = 0.1f;
 constexpr float kDenoiseMinAlbedo = 1e-3f;
 // The energy restore's iterations over the filter's residual (0: off; docs/denoise.md).
-constexpr int kDenoiseRestoreIterations = 5;
+constexpr int kDenoiseRestoreIterations = 0;
 
 // The estimator's defaults (sampling, glossy model, sampler, Russian roulette) are
 // kernels/shared/estimator.h's, read by the kernels and render::Estimator alike.
