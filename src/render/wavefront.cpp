@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <limits>
 
+#include "scene/upload.h"
 #include "util/error.h"
 #include "util/host_trace.h"
 #include "util/timer.h"
@@ -141,6 +142,15 @@ void Wavefront::reset(std::uint32_t seed) {
     checked_at_ = -1;
     adaptive_stats_ = {};
     dev_.queue.finish();
+}
+
+void Wavefront::set_camera(const Camera& camera) {
+    const CameraData next = upload_camera(camera, settings_.width, settings_.height, settings_.jitter);
+    if ((next.lens.x > 0.0f) != (scene_.camera.lens.x > 0.0f))
+        fail("set_camera: the camera's lens (radius {}) does not match the programs' ({})",
+             next.lens.x, scene_.camera.lens.x);
+    reset(settings_.seed);
+    scene_.camera = next;
 }
 
 void Wavefront::render_passes(int passes, const std::function<void(double)>& on_wave) {

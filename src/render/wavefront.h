@@ -112,6 +112,12 @@ class Wavefront {
     // Starts over with another seed: clears the film, counters, ray total and profile,
     // keeping programs and scene buffers (for repeated runs of one configuration).
     void reset(std::uint32_t seed);
+    // Moves the camera (the viewer): the generate stage's CameraData is made from `camera` by
+    // upload_camera (the one camera definition) at this render's size, and the film starts
+    // over as reset(seed) does. The lens must stay what the programs were built for (a
+    // pinhole stays a pinhole), and the field of view the scene's (ray cones); throws
+    // wp::Error otherwise, and for a degenerate camera.
+    void set_camera(const Camera& camera);
 
     // Samples per pixel so far (with adaptive sampling: of the pixels still active, the most
     // any pixel has).

@@ -1,0 +1,488 @@
+// cmd_view.cpp — `wavepath view [SCENE]`: the interactive viewer (docs/viewer.md).
+//
+// One more client of the renderer: the same scene arguments and render options as `render`
+// (app/render_options.h), one Wavefront whose film is shown as it accumulates. Each loop turn
+// enqueues one more sample per pixel (Wavefront::render_passes(1)), waits for it, reads the
+// resolved film (Wavefront::resolve), tone-maps it on the host (image/tonemap.h) into an
+// RGBA8 texture and draws it 1:1 into the window (OpenGL 1.1 textured quad, nearest
+// sampling). The navigation moves the scene's Camera (scene/camera_control.h), which reaches
+// the generate stage through Wavefront::set_camera and restarts the film; a resize makes a
+// new Wavefront at the window's framebuffer size.
+//
+// The window part (GLFW + OpenGL) is an optional CMake component (WP_HAVE_VIEWER); without it
+// `view` says so and exits 1. Without a display ($DISPLAY and $WAYLAND_DISPLAY unset, or
+// glfwInit failing) it says so, suggests `render`, and exits 1 before any work.
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include <fmt/format.h>
+
+#include "app/render_options.h"
+#include "app/subcommands.h"
+#include "image/image.h"
+#include "image/tonemap.h"
+#include "scene/camera_control.h"
+#include "util/error.h"
+#include "util/limits.h"
+
+#ifdef WP_HAVE_VIEWER
+#include <OpenImageIO/imageio.h>
+
+#define GLFW_INCLUDE_NONE
+#include <GL/gl.h>
+#include <GLFW/glfw3.h>
+
+#include "cl/device.h"
+#include "render/profile.h"
+#include "render/wavefront.h"
+#include "util/atomic_file.h"
+#include "util/timer.h"
+#endif
+
+namespace wp::app {
+
+namespace fs = std::filesystem;
+
+namespace {
+
+struct ViewArgs {
+    std::string scene;
+    int spp = limits::kMaxSpp;  // accumulation stops here (the viewer keeps showing)
+    ConfigArgs config;
+    SceneEdits edits;
+    long long seed = 0;
+    bool seed_given = false;
+    std::string output = "view";  // the save key writes OUTPUT.exr, .png, .camera.json
+    double exposure = 0.0;
+    std::string tonemap = "clamp";
+    bool no_srgb = false;
+    int frames = 0;          // > 0: quit after this many samples per pixel were shown
+    std::string screenshot;  // with --frames: the window's pixels as PNG at the end
+    bool quiet = false;
+};
+
+bool have_display() {
+    const char* x = std::getenv("DISPLAY");
+    const char* w = std::getenv("WAYLAND_DISPLAY");
+    return (x && *x) || (w && *w);
+}
+
+constexpr const char* kNoDisplay =
+    "no display to open a window on ($DISPLAY and $WAYLAND_DISPLAY are unset{}); use "
+    "`wavepath render` to render the scene to an image file instead";
+
+#ifdef WP_HAVE_VIEWER
+
+// What the callbacks collect between two loop turns.
+struct Input {
+    double last_x = 0.0, last_y = 0.0;
+    bool have_last = false;
+    double orbit_x = 0.0, orbit_y = 0.0;  // pixels dragged with the left button
+    double pan_x = 0.0, pan_y = 0.0;      // right or middle button
+    double scroll = 0.0;
+    bool reset = false, pause = false, save = false, camera_save = false;
+    int exposure_steps = 0;
+    bool next_curve = false, toggle_srgb = false;
+    bool resized = false;
+};
+
+void on_key(GLFWwindow* w, int key, int, int action, int) {
+    if (action != GLFW_PRESS) return;
+    auto* in = static_cast<Input*>(glfwGetWindowUserPointer(w));
+    switch (key) {
+        case GLFW_KEY_R: in->reset = true; break;
+        case GLFW_KEY_SPACE: in->pause = true; break;
+        case GLFW_KEY_P: in->save = true; break;
+        case GLFW_KEY_C: in->camera_save = true; break;
+        case GLFW_KEY_EQUAL: case GLFW_KEY_KP_ADD: ++in->exposure_steps; break;
+        case GLFW_KEY_MINUS: case GLFW_KEY_KP_SUBTRACT: --in->exposure_steps; break;
+        case GLFW_KEY_T: in->next_curve = true; break;
+        case GLFW_KEY_G: in->toggle_srgb = true; break;
+        case GLFW_KEY_ESCAPE: case GLFW_KEY_Q: glfwSetWindowShouldClose(w, GLFW_TRUE); break;
+        default: break;
+    }
+}
+
+void on_cursor(GLFWwindow* w, double x, double y) {
+    auto* in = static_cast<Input*>(glfwGetWindowUserPointer(w));
+    if (in->have_last) {
+        const double dx = x - in->last_x, dy = y - in->last_y;
+        if (glfwGetMouseButton(w, GLFW_MOUSE_BUTTON_LEFT) == GLFW_PRESS) {
+            in->orbit_x += dx;
+            in->orbit_y += dy;
+        } else if (glfwGetMouseButton(w, GLFW_MOUSE_BUTTON_RIGHT) == GLFW_PRESS ||
+                   glfwGetMouseButton(w, GLFW_MOUSE_BUTTON_MIDDLE) == GLFW_PRESS) {
+            in->pan_x += dx;
+            in->pan_y += dy;
+        }
+    }
+    in->last_x = x;
+    in->last_y = y;
+    in->have_last = true;
+}
+
+void on_scroll(GLFWwindow* w, double, double dy) {
+    static_cast<Input*>(glfwGetWindowUserPointer(w))->scroll += dy;
+}
+
+void on_resize(GLFWwindow* w, int, int) {
+    static_cast<Input*>(glfwGetWindowUserPointer(w))->resized = true;
+}
+
+// The window's back buffer (what was just drawn) as an 8-bit PNG, written atomically.
+void write_screenshot(const fs::path& path, int w, int h) {
+    std::vector<std::uint8_t> px(static_cast<std::size_t>(w) * h * 4);
+    glPixelStorei(GL_PACK_ALIGNMENT, 1);
+    glReadBuffer(GL_BACK);
+    glReadPixels(0, 0, w, h, GL_RGBA, GL_UNSIGNED_BYTE, px.data());
+    std::vector<std::uint8_t> rgb(static_cast<std::size_t>(w) * h * 3);
+    for (int y = 0; y < h; ++y)  // OpenGL's rows go bottom-up
+        for (int x = 0; x < w; ++x)
+            for (int c = 0; c < 3; ++c)
+                rgb[(static_cast<std::size_t>(y) * w + x) * 3 + c] =
+                    px[(static_cast<std::size_t>(h - 1 - y) * w + x) * 4 + c];
+    write_atomically(path, [&](const fs::path& tmp) {
+        auto out = OIIO::ImageOutput::create("png");
+        if (!out) fail("{}: OpenImageIO has no PNG writer", path.string());
+        OIIO::ImageSpec spec(w, h, 3, OIIO::TypeDesc::UINT8);
+        spec.attribute("oiio:ColorSpace", "sRGB");
+        if (!out->open(tmp.string(), spec) || !out->write_image(OIIO::TypeDesc::UINT8, rgb.data()) ||
+            !out->close())
+            fail("{}: cannot write the screenshot: {}", path.string(), out->geterror());
+    });
+}
+
+struct Glfw {
+    ~Glfw() { glfwTerminate(); }
+};
+
+int run_view_window(const ViewArgs& a, ToneMapping tone) {
+    glfwSetErrorCallback([](int, const char*) {});  // glfwInit's failure is reported below
+    if (!glfwInit()) {
+        const char* why = nullptr;
+        glfwGetError(&why);
+        fail(kNoDisplay, fmt::format("; GLFW: {}", why ? why : "glfwInit failed"));
+    }
+    Glfw glfw_guard;
+
+    // Scene, settings and device, as `render` makes them.
+    Scene scene = load_scene(a.scene, a.quiet, &a.edits);
+    render::RenderSettings s = make_settings(a.config, scene);
+    s.seed = a.seed_given || !scene.render.seed ? static_cast<std::uint32_t>(a.seed) : *scene.render.seed;
+    ocl::Device dev = ocl::Device::open(a.config.device);
+    Camera camera = scene.camera;
+    camera.width = s.width;
+    camera.height = s.height;
+
+    glfwWindowHint(GLFW_CONTEXT_VERSION_MAJOR, 2);
+    glfwWindowHint(GLFW_CONTEXT_VERSION_MINOR, 1);
+    GLFWwindow* win = glfwCreateWindow(s.width, s.height, "wavepath view", nullptr, nullptr);
+    if (!win) {
+        const char* why = nullptr;
+        glfwGetError(&why);
+        fail("cannot open a {}x{} OpenGL window: {}; use `wavepath render` instead", s.width,
+             s.height, why ? why : "unknown GLFW error");
+    }
+    Input input;
+    glfwSetWindowUserPointer(win, &input);
+    glfwSetKeyCallback(win, on_key);
+    glfwSetCursorPosCallback(win, on_cursor);
+    glfwSetScrollCallback(win, on_scroll);
+    glfwSetFramebufferSizeCallback(win, on_resize);
+    glfwMakeContextCurrent(win);
+    glfwSwapInterval(0);  // the renderer sets the pace, not the monitor
+
+    GLuint tex = 0;
+    glGenTextures(1, &tex);
+    glBindTexture(GL_TEXTURE_2D, tex);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_S, GL_CLAMP);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_T, GL_CLAMP);
+    glEnable(GL_TEXTURE_2D);
+    glTexEnvi(GL_TEXTURE_ENV, GL_TEXTURE_ENV_MODE, GL_REPLACE);
+    glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
+
+    // The film follows the framebuffer (which may differ from the requested size).
+    int fb_w = 0, fb_h = 0;
+    glfwGetFramebufferSize(win, &fb_w, &fb_h);
+    std::unique_ptr<render::Wavefront> wf;
+    int tex_w = 0, tex_h = 0;
+    auto rebuild = [&](int w, int h) {
+        wf.reset();
+        s.width = std::max(w, 1);
+        s.height = std::max(h, 1);
+        camera.width = s.width;
+        camera.height = s.height;
+        scene.camera = camera;
+        wf = std::make_unique<render::Wavefront>(dev, scene, s);
+        glViewport(0, 0, s.width, s.height);
+        glTexImage2D(GL_TEXTURE_2D, 0, GL_RGBA8, s.width, s.height, 0, GL_RGBA, GL_UNSIGNED_BYTE, nullptr);
+        tex_w = s.width;
+        tex_h = s.height;
+    };
+    rebuild(fb_w, fb_h);
+    if (!a.quiet)
+        for (const auto& w : wf->scene_warnings()) fmt::print(stderr, "wavepath: warning: {}\n", w);
+
+    bool paused = false;
+    bool dirty = true;  // the shown image is out of date
+    std::vector<std::uint8_t> rgba;
+    Image shown;        // the latest resolved film (saved by P)
+    // Live numbers since the last restart, and the display's cost.
+    double render_ms_last = 0.0, display_ms_last = 0.0;
+    double render_ms_sum = 0.0, display_ms_sum = 0.0;
+    int displayed = 0;
+    Timer since_start;  // wall time since the last restart (Mrays/s)
+    std::uint64_t rays = 0;
+    Timer title_timer;
+    double last_turn_s = 0.0;
+    Timer turn_timer;
+    auto restart = [&] {
+        render_ms_sum = display_ms_sum = 0.0;
+        displayed = 0;
+        since_start.reset();
+        dirty = true;
+    };
+
+    while (!glfwWindowShouldClose(win)) {
+        last_turn_s = turn_timer.seconds();
+        turn_timer.reset();
+        glfwPollEvents();
+
+        // Input: display changes redraw; camera changes restart the film.
+        if (input.resized) {
+            input.resized = false;
+            glfwGetFramebufferSize(win, &fb_w, &fb_h);
+            if (fb_w > 0 && fb_h > 0 && (fb_w != s.width || fb_h != s.height)) {
+                rebuild(fb_w, fb_h);
+                restart();
+            }
+        }
+        if (input.exposure_steps != 0) {
+            tone.exposure = std::clamp(tone.exposure + input.exposure_steps * limits::kViewerExposureStep,
+                                       -limits::kViewerMaxExposure, limits::kViewerMaxExposure);
+            input.exposure_steps = 0;
+            dirty = true;
+        }
+        if (input.next_curve) tone.curve = next_tone_curve(tone.curve), input.next_curve = false, dirty = true;
+        if (input.toggle_srgb) tone.srgb = !tone.srgb, input.toggle_srgb = false, dirty = true;
+        if (input.pause) paused = !paused, input.pause = false;
+        Camera moved = camera;
+        if (input.orbit_x != 0.0 || input.orbit_y != 0.0)
+            moved = orbit_camera(moved, float(-input.orbit_x * limits::kViewerOrbitRadPerPixel),
+                                 float(input.orbit_y * limits::kViewerOrbitRadPerPixel));
+        if (input.pan_x != 0.0 || input.pan_y != 0.0) {
+            // One pixel at the target is 2 tan(fov/2) / height distances.
+            const double per_px = 2.0 * std::tan(glm::radians(camera.vfov_deg) * 0.5) / s.height;
+            moved = pan_camera(moved, float(-input.pan_x * per_px), float(input.pan_y * per_px));
+        }
+        if (input.scroll != 0.0)
+            moved = dolly_camera(moved, float(std::pow(limits::kViewerDollyPerScroll, input.scroll)));
+        input.orbit_x = input.orbit_y = input.pan_x = input.pan_y = input.scroll = 0.0;
+        {
+            const float step = float(limits::kViewerFlySpeed * std::min(last_turn_s, 0.25) *
+                                     glm::length(camera.target - camera.position));
+            float fr = 0.0f, ff = 0.0f;
+            if (glfwGetKey(win, GLFW_KEY_W) == GLFW_PRESS) ff += step;
+            if (glfwGetKey(win, GLFW_KEY_S) == GLFW_PRESS) ff -= step;
+            if (glfwGetKey(win, GLFW_KEY_D) == GLFW_PRESS) fr += step;
+            if (glfwGetKey(win, GLFW_KEY_A) == GLFW_PRESS) fr -= step;
+            if (fr != 0.0f || ff != 0.0f) moved = fly_camera(moved, fr, 0.0f, ff);
+        }
+        if (moved.position != camera.position || moved.target != camera.target) {
+            try {
+                wf->set_camera(moved);
+                camera = moved;
+            } catch (const Error&) {
+                // A degenerate camera (e.g. dollied onto its target): keep the old one.
+            }
+            restart();
+        }
+        if (input.reset) {
+            input.reset = false;
+            wf->reset(s.seed);
+            restart();
+        }
+
+        // One more sample per pixel, unless paused or done.
+        const bool rendering = !paused && wf->frames() < a.spp;
+        if (rendering) {
+            Timer t;
+            wf->render_passes(1);
+            dev.queue.finish();
+            render_ms_last = t.ms();
+            render_ms_sum += render_ms_last;
+            dirty = true;
+        }
+
+        // Show it: read back the resolved film, tone-map, upload, draw.
+        if (dirty) {
+            Timer t;
+            shown = wf->resolve();
+            tonemap_rgba8(shown, tone, rgba);
+            glTexSubImage2D(GL_TEXTURE_2D, 0, 0, 0, tex_w, tex_h, GL_RGBA, GL_UNSIGNED_BYTE, rgba.data());
+            glMatrixMode(GL_PROJECTION);
+            glLoadIdentity();
+            glOrtho(0, 1, 0, 1, -1, 1);
+            glMatrixMode(GL_MODELVIEW);
+            glLoadIdentity();
+            glBegin(GL_QUADS);  // texture row 0 is the image's top row
+            glTexCoord2f(0, 1); glVertex2f(0, 0);
+            glTexCoord2f(1, 1); glVertex2f(1, 0);
+            glTexCoord2f(1, 0); glVertex2f(1, 1);
+            glTexCoord2f(0, 0); glVertex2f(0, 1);
+            glEnd();
+            glFinish();
+            display_ms_last = t.ms();
+            if (rendering) {
+                display_ms_sum += display_ms_last;
+                ++displayed;
+            }
+            dirty = false;
+        }
+
+        // --frames: the end of a scripted run (the screenshot is the window's back buffer).
+        if (a.frames > 0 && wf->frames() >= a.frames) {
+            if (!a.screenshot.empty()) write_screenshot(a.screenshot, tex_w, tex_h);
+            glfwSwapBuffers(win);
+            break;
+        }
+        if (input.save || input.camera_save) {
+            if (input.save) {
+                std::vector<ImageAttribute> attrs = {{"wavepath:spp", std::to_string(wf->frames()), true}};
+                write_image(a.output + ".exr", shown, attrs);
+                write_image(a.output + ".png", apply_tone_mapping(shown, tone), attrs);
+            }
+            write_text_atomically(a.output + ".camera.json", camera_json_snippet(camera));
+            if (!a.quiet)
+                fmt::print("saved {}{}.camera.json at {} spp\n",
+                           input.save ? fmt::format("{0}.exr, {0}.png, ", a.output) : std::string(),
+                           a.output, wf->frames());
+            input.save = input.camera_save = false;
+        }
+        glfwSwapBuffers(win);
+
+        // Live numbers in the title, twice a second (the ray total is an 8-byte read).
+        if (title_timer.seconds() >= limits::kViewerTitleInterval_s) {
+            title_timer.reset();
+            rays = wf->rays_traced();
+            const double secs = std::max(since_start.seconds(), 1e-9);
+            wf->profiler().resolve();
+            render::ProfileSummary p = render::summarize_profile(wf->profiler(), rays);
+            std::string split;
+            for (const auto& st : p.stages)
+                if (st.percent >= 1.0) split += fmt::format(" {} {:.0f}%", st.name, st.percent);
+            const double frame_ms = displayed ? render_ms_sum / displayed : render_ms_last;
+            const double disp_ms = displayed ? display_ms_sum / displayed : display_ms_last;
+            std::string title = fmt::format(
+                "wavepath view | {} spp{} | {:.1f} ms/frame | {:.2f} Mrays/s | display {:.2f} ms "
+                "({:.1f}%) |{} | {} exp {:+.1f}{}",
+                wf->frames(), paused ? " (paused)" : "", frame_ms, double(rays) / secs * 1e-6,
+                disp_ms, frame_ms > 0 ? 100.0 * disp_ms / frame_ms : 0.0, split,
+                tone_curve_name(tone.curve), tone.exposure, tone.srgb ? "" : " linear");
+            glfwSetWindowTitle(win, title.c_str());
+        }
+        if (!rendering && !dirty) glfwWaitEventsTimeout(0.05);  // idle: no busy loop
+    }
+    if (!a.quiet && displayed > 0) {
+        const double frame_ms = render_ms_sum / displayed, disp_ms = display_ms_sum / displayed;
+        fmt::print("{}x{}: {} spp; {:.2f} ms per frame rendering, {:.3f} ms per frame showing "
+                   "(read-back, tone map, upload, draw) = {:.2f}% of the frame time\n",
+                   s.width, s.height, wf->frames(), frame_ms, disp_ms, 100.0 * disp_ms / frame_ms);
+    }
+    glDeleteTextures(1, &tex);
+    glfwDestroyWindow(win);
+    return 0;
+}
+
+#endif  // WP_HAVE_VIEWER
+
+int run_view(const ViewArgs& a) {
+    // Options first (usage errors, exit 2), then the display (exit 1), then any work.
+    if (a.spp < limits::kMinSpp || a.spp > limits::kMaxSpp)
+        usage_fail("--spp must be in {}..{} (got {})", limits::kMinSpp, limits::kMaxSpp, a.spp);
+    if (a.seed < 0 || a.seed > limits::kMaxSeed)
+        usage_fail("--seed must be in 0..{} (got {})", limits::kMaxSeed, a.seed);
+    if (a.frames < 0 || a.frames > limits::kViewerMaxFrames)
+        usage_fail("--frames must be in 0..{} (got {})", limits::kViewerMaxFrames, a.frames);
+    if (!a.screenshot.empty() && a.frames == 0) usage_fail("--screenshot needs --frames N");
+    if (a.frames > a.spp) usage_fail("--frames ({}) must not exceed --spp ({})", a.frames, a.spp);
+    if (!(std::fabs(a.exposure) <= limits::kViewerMaxExposure))
+        usage_fail("--exposure must be in -{0}..{0} stops (got {1})", limits::kViewerMaxExposure, a.exposure);
+    const auto curve = parse_tone_curve(a.tonemap);
+    if (!curve) usage_fail("--tonemap must be clamp, reinhard or filmic (got '{}')", a.tonemap);
+    check_scene_edits(a.edits);
+    if (!a.screenshot.empty()) {
+        if (fs::path(a.screenshot).extension() != ".png")
+            usage_fail("--screenshot must name a .png file (got '{}')", a.screenshot);
+        check_writable(a.screenshot, "--screenshot", true);
+    }
+#ifndef WP_HAVE_VIEWER
+    fail("this wavepath was built without the viewer (GLFW 3 and OpenGL were not found when it "
+         "was configured: Debian libglfw3-dev, libgl-dev); use `wavepath render` instead");
+#else
+    if (!have_display()) fail(kNoDisplay, "");
+    ToneMapping tone;
+    tone.exposure = a.exposure;
+    tone.curve = *curve;
+    tone.srgb = !a.no_srgb;
+    return run_view_window(a, tone);
+#endif
+}
+
+}  // namespace
+
+Subcommand add_view(CLI::App& app) {
+    auto args = std::make_shared<ViewArgs>();
+    Subcommand s;
+    s.app = app.add_subcommand(
+        "view",
+        "Show a scene in a window while it converges (docs/viewer.md): the progressive film, "
+        "mouse and WASD navigation (restarts accumulation), and live numbers in the title. "
+        "Keys: left drag orbit, right/middle drag pan, wheel dolly, W/A/S/D fly, R reset, "
+        "Space pause, P save OUTPUT.exr/.png/.camera.json, C save the camera only, +/- "
+        "exposure, T tone curve, G sRGB on/off, Q/Esc quit. Needs a display ($DISPLAY or "
+        "$WAYLAND_DISPLAY); without one it exits 1 (use `render`).");
+    auto* c = s.app;
+    c->add_option("scene", args->scene, kSceneArgHelp);
+    c->add_option("--spp", args->spp,
+                  "Stop accumulating at this many samples per pixel (the window stays open); "
+                  "default: no limit (2^24)")
+        ->capture_default_str();
+    add_config_options(c, args->config);
+    add_scene_edit_options(c, args->edits);
+    c->add_option("--seed", args->seed,
+                  "Random seed (beats the scene file's): the same seed gives `render`'s image")
+        ->capture_default_str()
+        ->each([a = args.get()](const std::string&) { a->seed_given = true; });
+    c->add_option("-o,--output", args->output,
+                  "Base name of what the P and C keys save: BASE.exr (the linear film), BASE.png "
+                  "(after exposure and tone curve, sRGB), BASE.camera.json (the camera as a JSON "
+                  "scene snippet)")
+        ->capture_default_str();
+    c->add_option("--exposure", args->exposure, "Exposure in stops (display and saved PNG)")
+        ->capture_default_str();
+    c->add_option("--tonemap", args->tonemap,
+                  "Tone curve: clamp, reinhard (x/(1+x)) or filmic (ACES-like fit)")
+        ->capture_default_str();
+    c->add_flag("--no-srgb", args->no_srgb, "Show linear codes instead of sRGB-encoded ones");
+    c->add_option("--frames", args->frames,
+                  "Quit after this many samples per pixel were shown (scripted runs, tests); "
+                  "0 = run until closed")
+        ->capture_default_str();
+    c->add_option("--screenshot", args->screenshot,
+                  "With --frames: write the window's pixels (read back from its framebuffer) "
+                  "as this PNG at the end");
+    c->add_flag("-q,--quiet", args->quiet, "No scene report, warnings or summary line");
+    s.run = [args]() -> int { return run_view(*args); };
+    return s;
+}
+
+}  // namespace wp::app
