@@ -39,6 +39,7 @@
 #include <GLFW/glfw3.h>
 
 #include "cl/device.h"
+#include "render/film.h"
 #include "render/profile.h"
 #include "render/wavefront.h"
 #include "util/atomic_file.h"
@@ -65,6 +66,7 @@ struct ViewArgs {
     int frames = 0;          // > 0: quit after this many samples per pixel were shown
     std::string screenshot;  // with --frames: the window's pixels as PNG at the end
     bool quiet = false;
+    bool no_show = false;    // measuring: render without reading back or drawing
 };
 
 bool have_display() {
@@ -215,6 +217,7 @@ int run_view_window(const ViewArgs& a, ToneMapping tone) {
     std::unique_ptr<render::Wavefront> wf;
     int tex_w = 0, tex_h = 0;
     auto rebuild = [&](int w, int h) {
+        dev.queue.finish();  // reads in flight into the snapshots
         wf.reset();
         s.width = std::max(w, 1);
         s.height = std::max(h, 1);
@@ -232,27 +235,54 @@ int run_view_window(const ViewArgs& a, ToneMapping tone) {
         for (const auto& w : wf->scene_warnings()) fmt::print(stderr, "wavepath: warning: {}\n", w);
 
     bool paused = false;
-    bool dirty = true;  // the shown image is out of date
+    bool dirty = true;       // the shown image's display settings changed
+    bool need_read = true;   // the shown image is out of date and no read is in flight
+    // Two host buffers of the raw film, filled by non-blocking reads (double buffering);
+    // adaptive sampling resolves with per-pixel counts, so it reads the film blocking.
+    struct Snapshot {
+        std::vector<FilmPixel> film;
+        ::cl::Event done;
+        int samples = 0;
+        bool pending = false;
+        cl_ulong rays[2] = {0, 0};  // ray totals read along
+    };
+    Snapshot snaps[2];
+    int next_snap = 0;
+    const bool use_snapshots = !s.adaptive.enabled;
+    int shown_spp = 0;
+    double turn_ms = 0.0;    // wall time of the previous loop turn
+    ::cl::Event no_show_marker;  // --no-show: the end of the previous pass
     std::vector<std::uint8_t> rgba;
     Image shown;        // the latest resolved film (saved by P)
     // Live numbers since the last restart, and the display's cost.
     double render_ms_last = 0.0, display_ms_last = 0.0;
     double render_ms_sum = 0.0, display_ms_sum = 0.0;
-    int displayed = 0;
+    double read_ms_sum = 0.0, tone_ms_sum = 0.0;  // parts of display_ms_sum (the rest: GL)
+    int displayed = 0;        // frames shown while rendering (display sums)
+    int frames_timed = 0;     // turns that rendered after a turn that rendered (render_ms_sum)
+    int skipped = 0;          // passes not shown (the display's share, below)
+    bool rendered_before = false;
+    double since_shown_ms = 0.0;
     Timer since_start;  // wall time since the last restart (Mrays/s)
     std::uint64_t rays = 0;
-    Timer title_timer;
+    Timer title_timer, profile_timer;
+    std::string split;  // the per-stage split of the device time, for the title
     double last_turn_s = 0.0;
     Timer turn_timer;
-    auto restart = [&] {
-        render_ms_sum = display_ms_sum = 0.0;
-        displayed = 0;
+    auto restart = [&] {  // after the film was cleared (the queue has drained)
+        render_ms_sum = display_ms_sum = read_ms_sum = tone_ms_sum = 0.0;
+        displayed = frames_timed = skipped = 0;
+        render_ms_last = 0.0;
+        rendered_before = false;
+        since_shown_ms = 0.0;
         since_start.reset();
-        dirty = true;
+        snaps[0].pending = snaps[1].pending = false;  // reads of the old film
+        need_read = true;
     };
 
     while (!glfwWindowShouldClose(win)) {
         last_turn_s = turn_timer.seconds();
+        turn_ms = last_turn_s * 1e3;
         turn_timer.reset();
         glfwPollEvents();
 
@@ -311,22 +341,77 @@ int run_view_window(const ViewArgs& a, ToneMapping tone) {
             restart();
         }
 
-        // One more sample per pixel, unless paused or done.
-        const bool rendering = !paused && wf->frames() < a.spp;
+        // One more sample per pixel, unless paused or done, and (double buffering) a
+        // non-blocking read of the film behind it into one of two host buffers: the queue
+        // runs them in order, so the read sees exactly that pass.
+        const bool rendering = !paused && wf->frames() < a.spp && (a.frames == 0 || wf->frames() < a.frames);
         if (rendering) {
-            Timer t;
+            // The previous turn's wall time is one pass's (while the one before was shown).
+            if (rendered_before) {
+                render_ms_last = turn_ms;
+                render_ms_sum += turn_ms;
+                ++frames_timed;
+                since_shown_ms += turn_ms;
+            }
             wf->render_passes(1);
-            dev.queue.finish();
-            render_ms_last = t.ms();
-            render_ms_sum += render_ms_last;
-            dirty = true;
+            if (a.no_show) {
+                // The same pipelining without the display: wait for the pass before this one.
+                ::cl::Event marker;
+                dev.queue.enqueueMarkerWithWaitList(nullptr, &marker);
+                if (no_show_marker()) no_show_marker.wait();
+                no_show_marker = marker;
+                shown_spp = wf->frames() - 1;
+            } else if (use_snapshots) {
+                Snapshot& sn = snaps[next_snap];
+                sn.done = wf->enqueue_film_read(sn.film, sn.rays);
+                sn.samples = wf->frames();
+                sn.pending = true;
+                next_snap ^= 1;
+            } else {
+                dev.queue.finish();
+                need_read = true;
+            }
         }
 
-        // Show it: read back the resolved film, tone-map, upload, draw.
-        if (dirty) {
+        rendered_before = rendering;
+        if (a.no_show && !rendering) {
+            dev.queue.finish();
+            shown_spp = wf->frames();
+        }
+
+        // Show the previous pass (its read was enqueued before this turn's pass, which runs
+        // on the device meanwhile): resolve, tone-map, upload, draw. Display changes redraw
+        // what is shown; a restart that left nothing in flight reads the film directly.
+        Snapshot& prev = snaps[next_snap];  // the older of the two
+        Snapshot& newest = snaps[next_snap ^ 1];
+        Snapshot* ready = prev.pending ? &prev : (!rendering && newest.pending) ? &newest : nullptr;
+        if (ready && rendering && !need_read && !dirty) {
+            // The display's share of the renderer's time stays <= kViewerDisplayShare: a pass
+            // is shown once the passes since the last shown one took (1/share - 1) times the
+            // display's cost; the others are skipped (their read is cheap and paces the loop).
+            ready->done.wait();
+            if (since_shown_ms < display_ms_last * (1.0 / limits::kViewerDisplayShare - 1.0)) {
+                ready->pending = false;
+                ready = nullptr;
+                ++skipped;
+            }
+        }
+        if (!a.no_show && (ready || need_read || dirty)) {
             Timer t;
-            shown = wf->resolve();
+            if (ready) {
+                ready->done.wait();
+                render::resolve_film_into(ready->film.data(), ready->film.size(), 0, ready->samples, shown);
+                shown_spp = ready->samples;
+                rays = ready->rays[0] + ready->rays[1];
+                ready->pending = false;
+            } else if (need_read) {
+                shown = wf->resolve();
+                shown_spp = wf->frames();
+            }
+            need_read = false;
+            const double read_ms = t.ms();
             tonemap_rgba8(shown, tone, rgba);
+            const double tone_ms = t.ms() - read_ms;
             glTexSubImage2D(GL_TEXTURE_2D, 0, 0, 0, tex_w, tex_h, GL_RGBA, GL_UNSIGNED_BYTE, rgba.data());
             glMatrixMode(GL_PROJECTION);
             glLoadIdentity();
@@ -340,23 +425,28 @@ int run_view_window(const ViewArgs& a, ToneMapping tone) {
             glTexCoord2f(0, 0); glVertex2f(0, 1);
             glEnd();
             glFinish();
-            display_ms_last = t.ms();
-            if (rendering) {
+            // A blocking read also waited for the device: not the display's cost.
+            display_ms_last = ready ? t.ms() : t.ms() - read_ms;
+            // Steady state only: a pass rendered in this turn and the one before.
+            if (rendering && ready) {
                 display_ms_sum += display_ms_last;
+                read_ms_sum += read_ms;
+                tone_ms_sum += tone_ms;
                 ++displayed;
             }
+            since_shown_ms = 0.0;
             dirty = false;
         }
 
         // --frames: the end of a scripted run (the screenshot is the window's back buffer).
-        if (a.frames > 0 && wf->frames() >= a.frames) {
+        if (a.frames > 0 && shown_spp >= a.frames) {
             if (!a.screenshot.empty()) write_screenshot(a.screenshot, tex_w, tex_h);
             glfwSwapBuffers(win);
             break;
         }
         if (input.save || input.camera_save) {
             if (input.save) {
-                std::vector<ImageAttribute> attrs = {{"wavepath:spp", std::to_string(wf->frames()), true}};
+                std::vector<ImageAttribute> attrs = {{"wavepath:spp", std::to_string(shown_spp), true}};
                 write_image(a.output + ".exr", shown, attrs);
                 write_image(a.output + ".png", apply_tone_mapping(shown, tone), attrs);
             }
@@ -364,7 +454,7 @@ int run_view_window(const ViewArgs& a, ToneMapping tone) {
             if (!a.quiet)
                 fmt::print("saved {}{}.camera.json at {} spp\n",
                            input.save ? fmt::format("{0}.exr, {0}.png, ", a.output) : std::string(),
-                           a.output, wf->frames());
+                           a.output, shown_spp);
             input.save = input.camera_save = false;
         }
         glfwSwapBuffers(win);
@@ -372,30 +462,43 @@ int run_view_window(const ViewArgs& a, ToneMapping tone) {
         // Live numbers in the title, twice a second (the ray total is an 8-byte read).
         if (title_timer.seconds() >= limits::kViewerTitleInterval_s) {
             title_timer.reset();
-            rays = wf->rays_traced();
+            if (!use_snapshots) rays = wf->rays_traced();
             const double secs = std::max(since_start.seconds(), 1e-9);
-            wf->profiler().resolve();
-            render::ProfileSummary p = render::summarize_profile(wf->profiler(), rays);
-            std::string split;
-            for (const auto& st : p.stages)
-                if (st.percent >= 1.0) split += fmt::format(" {} {:.0f}%", st.name, st.percent);
-            const double frame_ms = displayed ? render_ms_sum / displayed : render_ms_last;
+            // The per-stage split waits for the launches in flight: refreshed less often.
+            if (profile_timer.seconds() >= limits::kViewerProfileInterval_s || split.empty()) {
+                profile_timer.reset();
+                wf->profiler().resolve();
+                render::ProfileSummary p = render::summarize_profile(wf->profiler(), rays);
+                split.clear();
+                for (const auto& st : p.stages)
+                    if (st.percent >= 1.0) split += fmt::format(" {} {:.0f}%", st.name, st.percent);
+            }
+            const double frame_ms = frames_timed ? render_ms_sum / frames_timed : render_ms_last;
             const double disp_ms = displayed ? display_ms_sum / displayed : display_ms_last;
+            const double share = render_ms_sum > 0.0 ? display_ms_sum / render_ms_sum : 0.0;
             std::string title = fmt::format(
                 "wavepath view | {} spp{} | {:.1f} ms/frame | {:.2f} Mrays/s | display {:.2f} ms "
                 "({:.1f}%) |{} | {} exp {:+.1f}{}",
-                wf->frames(), paused ? " (paused)" : "", frame_ms, double(rays) / secs * 1e-6,
-                disp_ms, frame_ms > 0 ? 100.0 * disp_ms / frame_ms : 0.0, split,
+                shown_spp, paused ? " (paused)" : "", frame_ms, double(rays) / secs * 1e-6,
+                disp_ms, 100.0 * share, split,
                 tone_curve_name(tone.curve), tone.exposure, tone.srgb ? "" : " linear");
             glfwSetWindowTitle(win, title.c_str());
         }
-        if (!rendering && !dirty) glfwWaitEventsTimeout(0.05);  // idle: no busy loop
+        if (!rendering && !dirty && !snaps[0].pending && !snaps[1].pending)
+            glfwWaitEventsTimeout(0.05);  // idle: no busy loop
     }
-    if (!a.quiet && displayed > 0) {
-        const double frame_ms = render_ms_sum / displayed, disp_ms = display_ms_sum / displayed;
-        fmt::print("{}x{}: {} spp; {:.2f} ms per frame rendering, {:.3f} ms per frame showing "
-                   "(read-back, tone map, upload, draw) = {:.2f}% of the frame time\n",
-                   s.width, s.height, wf->frames(), frame_ms, disp_ms, 100.0 * disp_ms / frame_ms);
+    if (!a.quiet && frames_timed > 0 && a.no_show) {
+        fmt::print("{}x{}: {} spp; {:.2f} ms per frame rendering, nothing shown (--no-show)\n",
+                   s.width, s.height, wf->frames(), render_ms_sum / frames_timed);
+    } else if (!a.quiet && frames_timed > 0 && displayed > 0) {
+        const double frame_ms = render_ms_sum / frames_timed, disp_ms = display_ms_sum / displayed;
+        fmt::print("{}x{}: {} spp; {:.2f} ms per frame rendering; {} of {} passes shown, {:.2f} ms "
+                   "each = {:.2f}% of the render time (read-back {:.2f}, tone map {:.2f}, upload "
+                   "and draw {:.2f} ms)\n",
+                   s.width, s.height, wf->frames(), frame_ms, displayed, displayed + skipped, disp_ms,
+                   100.0 * display_ms_sum / render_ms_sum,
+                   read_ms_sum / displayed, tone_ms_sum / displayed,
+                   (display_ms_sum - read_ms_sum - tone_ms_sum) / displayed);
     }
     glDeleteTextures(1, &tex);
     glfwDestroyWindow(win);
@@ -413,6 +516,7 @@ int run_view(const ViewArgs& a) {
     if (a.frames < 0 || a.frames > limits::kViewerMaxFrames)
         usage_fail("--frames must be in 0..{} (got {})", limits::kViewerMaxFrames, a.frames);
     if (!a.screenshot.empty() && a.frames == 0) usage_fail("--screenshot needs --frames N");
+    if (a.no_show && !a.screenshot.empty()) usage_fail("--screenshot shows nothing with --no-show");
     if (a.frames > a.spp) usage_fail("--frames ({}) must not exceed --spp ({})", a.frames, a.spp);
     if (!(std::fabs(a.exposure) <= limits::kViewerMaxExposure))
         usage_fail("--exposure must be in -{0}..{0} stops (got {1})", limits::kViewerMaxExposure, a.exposure);
@@ -481,6 +585,10 @@ Subcommand add_view(CLI::App& app) {
                   "With --frames: write the window's pixels (read back from its framebuffer) "
                   "as this PNG at the end");
     c->add_flag("-q,--quiet", args->quiet, "No scene report, warnings or summary line");
+    c->add_flag("--no-show", args->no_show,
+                "Measuring: render the passes the same way without reading back, tone mapping "
+                "or drawing them (the window stays black); with --frames its summary line is "
+                "the baseline frame time of the display's cost (docs/viewer.md)");
     s.run = [args]() -> int { return run_view(*args); };
     return s;
 }

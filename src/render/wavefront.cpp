@@ -376,6 +376,20 @@ Image Wavefront::resolve() {
     return img;
 }
 
+::cl::Event Wavefront::enqueue_film_read(std::vector<FilmPixel>& dst, cl_ulong* rays) {
+    dst.resize(static_cast<std::size_t>(pixel_count()));
+    ::cl::Event last;
+    if (rays) {
+        dev_.queue.enqueueReadBuffer(film_.ray_total.buffer, CL_FALSE, 0, sizeof(cl_ulong), &rays[0]);
+        dev_.queue.enqueueReadBuffer(film_.shadow_ray_total.buffer, CL_FALSE, 0, sizeof(cl_ulong), &rays[1]);
+    }
+    for (const auto& seg : film_.segments)
+        if (seg.size > 0)
+            dev_.queue.enqueueReadBuffer(seg.sum.buffer, CL_FALSE, 0, seg.size * sizeof(FilmPixel),
+                                         dst.data() + seg.first, nullptr, &last);
+    return last;
+}
+
 std::array<int, WP_COUNTER_COUNT> Wavefront::counters() {
     std::array<int, WP_COUNTER_COUNT> c{};
     auto v = film_.counters.read(dev_);

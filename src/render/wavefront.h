@@ -150,6 +150,13 @@ class Wavefront {
     };
     RayTotals ray_totals();                             // the same, per kind of ray
     std::vector<FilmPixel> film();                      // the raw film
+    // The raw film as it will be once the work enqueued so far is done, read without
+    // blocking (the viewer's double buffering): enqueues reads of every segment into `dst`
+    // (resized to pixel_count()) and returns the last one's event (the queue is in order);
+    // `dst` must stay alive and untouched until it completes. Its sample count is frames()
+    // at the call. With `rays`, the ray totals are read along (into rays[0] closest hit,
+    // rays[1] shadow), so live numbers need no blocking read either.
+    ::cl::Event enqueue_film_read(std::vector<FilmPixel>& dst, cl_ulong* rays = nullptr);
     std::vector<FilmPixel> film_squares();              // its sum of squares (with variance)
     // Mean, sample variance and variance of the mean (render/film.h); needs
     // settings.variance, else throws wp::Error.

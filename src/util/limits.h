@@ -105,6 +105,8 @@ constexpr double kViewerFlySpeed = 0.5;          // distances to target per seco
 constexpr double kViewerExposureStep = 0.5;      // stops per key press
 constexpr double kViewerMaxExposure = 20.0;      // |--exposure| in stops
 constexpr double kViewerTitleInterval_s = 0.5;   // live numbers in the title
+constexpr double kViewerProfileInterval_s = 3.0; // its per-stage split (waits for the queue)
+constexpr double kViewerDisplayShare = 0.05;     // most of the render time spent showing frames
 constexpr int kViewerMaxFrames = 1 << 24;        // --frames
 
 // The estimator's defaults (sampling, glossy model, sampler, Russian roulette) are
