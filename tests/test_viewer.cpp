@@ -187,6 +187,15 @@ TEST_CASE("Wavefront::set_camera renders what a render with that camera from the
     const std::vector<FilmPixel> got = viewer.film();
     REQUIRE(got.size() == want.size());
     CHECK(std::memcmp(got.data(), want.data(), got.size() * sizeof(FilmPixel)) == 0);
+    // The viewer's non-blocking read (and the ray totals read along) sees the same film.
+    std::vector<FilmPixel> snap;
+    cl_ulong rays[2] = {0, 0};
+    viewer.enqueue_film_read(snap, rays).wait();
+    REQUIRE(snap.size() == want.size());
+    CHECK(std::memcmp(snap.data(), want.data(), snap.size() * sizeof(FilmPixel)) == 0);
+    const auto totals = viewer.ray_totals();
+    CHECK(rays[0] == totals.closest);
+    CHECK(rays[1] == totals.shadow);
     // And the move changed the image.
     scene.camera = original;
     render::Wavefront still(test::device(), scene, s);
