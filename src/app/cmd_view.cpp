@@ -529,8 +529,8 @@ int run_view(const ViewArgs& a) {
         check_writable(a.screenshot, "--screenshot", true);
     }
 #ifndef WP_HAVE_VIEWER
-    fail("this wavepath was built without the viewer (GLFW 3 and OpenGL were not found when it "
-         "was configured: Debian libglfw3-dev, libgl-dev); use `wavepath render` instead");
+    fail("this wavepath was built without the viewer (configured with WP_WITH_VIEWER=OFF, or "
+         "without GLFW 3 and OpenGL: Debian libglfw3-dev, libgl-dev); use `wavepath render` instead");
 #else
     if (!have_display()) fail(kNoDisplay, "");
     ToneMapping tone;
