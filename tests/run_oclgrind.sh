@@ -56,5 +56,15 @@ if [ -n "$wavepath" ]; then
     "$wavepath" compare "$dir/og.exr" "$dir/pocl.exr" --variance "$dir/og.var.exr" \
       --ref-variance "$dir/pocl.var.exr" --min-pass 0.9975 --max-relmse 1e-9 || status=1
   done
+  # The feature buffers (aov stage, through the box's mirror) and the denoise stage.
+  args=(render builtin:cornell-box --size 8x6 --spp 2 --depth 3 --seed 3 --sampler random --aov all --denoise -q)
+  : >"$log"
+  echo "run_oclgrind: oclgrind --check-api --data-races wavepath ${args[*]}"
+  "$oclgrind" --check-api --data-races --log "$log" "$wavepath" "${args[@]}" -o "$dir/dn.exr" || status=1
+  if [ -s "$log" ]; then
+    echo "run_oclgrind: Oclgrind reported problems:"
+    cat "$log"
+    status=1
+  fi
 fi
 exit $status

@@ -418,7 +418,8 @@ TEST_CASE("render CLI: --target-error and --adaptive", "[render][cli][adaptive]"
     CHECK(std::stod(*mean) >= limits::kDefaultMinSpp);
 
     for (const char* bad : {"--adaptive-threshold 1e-3", "--adaptive --adaptive-threshold 0",
-                            "--adaptive --min-spp 1", "--target-error -1", "--target-error nan"}) {
+                            "--adaptive --min-spp 1", "--target-error -1", "--target-error nan",
+                            "--adaptive --denoise", "--adaptive --aov albedo"}) {
         test::TempDir e;
         test::CliRun b = test::run_render(e.path, std::string("--size 8x6 --spp 4 ") + bad);
         INFO(bad << ": " << b.err);

@@ -128,7 +128,8 @@ TEST_CASE("generic kernels: every switch a stage reads is on", "[unit][kernels]"
     };
     for (const Stage& st : {Stage{"shade.cl", gen.shade_options()}, Stage{"generate.cl", gen.generate_options()},
                             Stage{"intersect.cl", gen.trace_options()}, Stage{"shadow.cl", gen.trace_options()},
-                            Stage{"accumulate.cl", gen.accumulate_options()}}) {
+                            Stage{"accumulate.cl", gen.accumulate_options()},
+                            Stage{"aov.cl", gen.aov_options()}}) {
         for (const std::string& name : switches_read(st.file)) {
             INFO(st.file << " reads " << name << "; generic options: " << st.options);
             CHECK(st.options.find("-D " + name + "=1") != std::string::npos);

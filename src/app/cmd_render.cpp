@@ -5,6 +5,7 @@
 // pool) until --spp or
 // --time, writes the image(s) atomically (the samples so far on a first Ctrl-C) and, with
 // --stats, prints the per-stage kernel profile.
+#include <cctype>
 #include <cmath>
 #include <cstdio>
 #include <limits>
@@ -24,6 +25,8 @@
 #include "cl/program.h"
 #include "image/image.h"
 #include "image/stats.h"
+#include "render/aov.h"
+#include "render/denoise.h"
 #include "render/loop.h"
 #include "render/profile.h"
 #include "render/progress.h"
@@ -53,6 +56,9 @@ struct RenderArgs {
     std::string output;    // empty: render.exr + render.png in the current folder
     std::string profile;   // profile JSON path; the trace goes next to it
     bool variance = false; // also write the variance of the mean (X.var.exr)
+    std::string aov;       // --aov: comma list of albedo, normal, depth (render/aov.h)
+    bool aov_png = false;  // --aov-png: PNG previews of the AOVs next to the output
+    bool denoise = false;  // --denoise: OUT denoised, OUT.noisy.EXT the render itself
     std::string reference; // reference EXR to measure the error against
     bool quiet = false;
     bool verbose = false;
@@ -62,6 +68,38 @@ struct RenderArgs {
     bool spp_given = false;   // --spp / --seed on the command line beat the scene file's
     bool seed_given = false;
 };
+
+// OUT with ".noisy" before its extension: render.exr -> render.noisy.exr (--denoise).
+fs::path noisy_path_for(const fs::path& out) {
+    return out.parent_path() / (out.stem().string() + ".noisy" + out.extension().string());
+}
+
+// The PNG preview of AOV `name` next to `base`: render.exr -> render.albedo.png.
+fs::path aov_preview_path_for(const fs::path& base, const char* name) {
+    return base.parent_path() / (base.stem().string() + "." + name + ".png");
+}
+
+// Writes `img` to `path`: an EXR with the requested AOVs as extra channels (albedo.R/G/B,
+// normal.X/Y/Z, depth.Z) when there are any, else as write_image does.
+void write_output(const fs::path& path, const Image& img, const render::AovSet& set,
+                  const render::AovImages* aov, const std::vector<ImageAttribute>& attrs) {
+    std::string ext = path.extension().string();
+    for (char& ch : ext) ch = static_cast<char>(std::tolower(static_cast<unsigned char>(ch)));
+    if (!aov || !set.any() || ext != ".exr") {
+        write_image(path, img, attrs);
+        return;
+    }
+    std::vector<ImageChannel> ch = {{"R", img.rgb.data(), 3, 0}, {"G", img.rgb.data(), 3, 1},
+                                    {"B", img.rgb.data(), 3, 2}};
+    if (set.albedo)
+        for (int c = 0; c < 3; ++c)
+            ch.push_back({std::string("albedo.") + "RGB"[c], aov->albedo.rgb.data(), 3, std::size_t(c)});
+    if (set.normal)
+        for (int c = 0; c < 3; ++c)
+            ch.push_back({std::string("normal.") + "XYZ"[c], aov->normal.rgb.data(), 3, std::size_t(c)});
+    if (set.depth) ch.push_back({"depth.Z", aov->depth.data(), 1, 0});
+    write_exr_channels(path, img.width, img.height, ch, attrs);
+}
 
 // How often the progress line's error against the reference is refreshed (film read-back).
 constexpr double kReferenceInterval_s = 3.0;
@@ -103,6 +141,11 @@ int run_render(const RenderArgs& a) {
         usage_fail("--target-error must be 0 (none) or in {:g}..{:g} (got {})",
                    limits::kMinErrorThreshold, limits::kMaxErrorThreshold, a.target_error);
     parse_debug_nan(a.debug_nan);  // checked before any work
+    const render::AovSet aov_set = a.aov.empty() ? render::AovSet{} : render::parse_aov_list(a.aov);
+    if (a.aov_png && !aov_set.any()) usage_fail("--aov-png needs --aov (which AOVs to preview)");
+    if (a.config.adaptive && (aov_set.any() || a.denoise))
+        usage_fail("--adaptive cannot be combined with --aov or --denoise yet (the feature buffers "
+                   "are averaged over whole passes); --target-error alone can");
     check_scene_edits(a.edits);
 
     // 2. Outputs: checked before any work, so a bad path fails in milliseconds.
@@ -112,6 +155,34 @@ int run_render(const RenderArgs& a) {
     else
         outputs = {a.output};
     for (const auto& o : outputs) check_writable(o, "output", true);
+    // The AOVs go into the EXR outputs' channels (and the PNG previews).
+    const fs::path* exr_output = nullptr;
+    for (const auto& o : outputs) {
+        std::string ext = o.extension().string();
+        for (char& ch : ext) ch = static_cast<char>(std::tolower(static_cast<unsigned char>(ch)));
+        if (ext == ".exr" && !exr_output) exr_output = &o;
+    }
+    if (aov_set.any() && !exr_output && !a.aov_png)
+        usage_fail("--aov: the AOVs are written as channels of an EXR output, and '{}' is not one "
+                   "(write an .exr, or add --aov-png for PNG previews)", outputs.front().string());
+    std::vector<fs::path> noisy_outputs;
+    if (a.denoise)
+        for (const auto& o : outputs) {
+            noisy_outputs.push_back(noisy_path_for(o));
+            check_writable(noisy_outputs.back(), "--denoise's noisy output", true);
+        }
+    std::vector<std::pair<fs::path, const char*>> previews;  // (path, AOV name)
+    if (a.aov_png) {
+        const fs::path base = exr_output ? *exr_output : outputs.front();
+        for (const char* name : {"albedo", "normal", "depth"}) {
+            const bool on = std::string(name) == "albedo"   ? aov_set.albedo
+                            : std::string(name) == "normal" ? aov_set.normal
+                                                            : aov_set.depth;
+            if (!on) continue;
+            previews.push_back({aov_preview_path_for(base, name), name});
+            check_writable(previews.back().first, "--aov-png preview", true);
+        }
+    }
     fs::path trace_path;
     if (!a.profile.empty()) {
         check_writable(a.profile, "--profile", false);
@@ -162,7 +233,9 @@ int run_render(const RenderArgs& a) {
     s.inject_nan = parse_debug_nan(a.debug_nan);
     s.inject_period = a.debug_nan_period;
     if (spp < 1) fail("spp must be at least 1 (got {} from the scene file)", spp);
-    s.variance = a.variance;
+    // The denoiser reads the film's variance and every AOV.
+    s.variance = a.variance || a.denoise;
+    s.aov = aov_set.any() || a.denoise;
     // --target-error: the per-pixel error estimates (render/adaptive.h); with --adaptive and
     // no --adaptive-threshold, pixels stop at the target itself.
     s.error_estimate = target;
@@ -255,9 +328,11 @@ int run_render(const RenderArgs& a) {
     if (res.estimated_error >= 0.0)
         attrs.push_back({"wavepath:estimated_relmse", fmt::format("{:.6e}", res.estimated_error), false});
     Image img, variance;
+    render::AovImages aov;
     {
         HostSpan span("resolve");
-        if (a.variance) {
+        if (s.aov) aov = wf.aovs();
+        if (s.variance) {
             render::FilmMoments mom = wf.moments();
             img = std::move(mom.mean);
             variance = std::move(mom.mean_variance);
@@ -265,13 +340,41 @@ int run_render(const RenderArgs& a) {
             img = wf.resolve();
         }
     }
+    // Denoise (biased: docs/denoise.md): OUT gets the denoised image, OUT.noisy.EXT the
+    // render itself. Its time is reported apart from the render's (not a per-spp stage).
+    Image denoised;
+    double denoise_ms = 0.0, denoise_device_ms = 0.0, denoise_program_ms = 0.0;
+    if (a.denoise) {
+        HostSpan span("denoise");
+        Timer t;
+        render::Denoiser dn(dev);
+        denoise_program_ms = t.ms();
+        t.reset();
+        denoised = dn.run(img, variance, aov);
+        denoise_ms = t.ms();
+        denoise_device_ms = dn.last_device_ms();
+    }
+    const Image& final_img = a.denoise ? denoised : img;
+    const std::vector<ImageAttribute> out_attrs = [&] {
+        std::vector<ImageAttribute> v = attrs;
+        if (a.denoise) v.push_back({"wavepath:denoised", "1", true});
+        return v;
+    }();
     {
         HostSpan span("write");
         if (a.variance) write_image(variance_path, variance, attrs);
-        for (const auto& o : outputs) write_image(o, img, attrs);
+        for (const auto& o : noisy_outputs) write_output(o, img, aov_set, &aov, attrs);
+        for (const auto& o : outputs) write_output(o, final_img, aov_set, &aov, out_attrs);
+        for (const auto& [path, name] : previews) {
+            const std::string n = name;
+            write_image(path, n == "albedo" ? aov.albedo
+                              : n == "normal" ? render::aov_preview_normal(aov)
+                                              : render::aov_preview_depth(aov));
+        }
     }
-    std::optional<ErrorMetrics> err;
-    if (ref) err = compare_images(img, ref->image);
+    std::optional<ErrorMetrics> err, err_noisy;
+    if (ref) err = compare_images(final_img, ref->image);
+    if (ref && a.denoise) err_noisy = compare_images(img, ref->image);
 
     // The deferred program cache stores (a cold start only; up to 2 s on PoCL), skipped
     // after a Ctrl-C, which asked to finish soon (PoCL's own cache keeps the builds).
@@ -292,6 +395,8 @@ int run_render(const RenderArgs& a) {
         std::string names;
         for (const auto& o : outputs) names += (names.empty() ? "" : ", ") + o.string();
         if (a.variance) names += ", " + variance_path.string() + " (variance of the mean)";
+        for (const auto& o : noisy_outputs) names += ", " + o.string() + " (noisy)";
+        for (const auto& pv : previews) names += ", " + pv.first.string();
         std::string why = res.stopped_by_target  ? fmt::format(" (target error reached)")
                           : res.stopped_by_time  ? std::string(" (time limit)")
                           : res.interrupted      ? fmt::format(" (interrupted at {} spp)", res.frames)
@@ -317,11 +422,18 @@ int run_render(const RenderArgs& a) {
                        wf.active_pixels(), wf.pixel_count());
         }
         fmt::print("kernel options: {}\n", wf.options());
+        if (a.denoise)
+            fmt::print("denoised in {:.1f} ms ({:.1f} ms on the device, {} + {} a-trous "
+                       "iterations; program {:.1f} ms); the denoised image is biased\n",
+                       denoise_ms, denoise_device_ms, render::DenoiseSettings{}.iterations,
+                       render::DenoiseSettings{}.restore_iterations, denoise_program_ms);
         if (err)
-            fmt::print("error against {}: {} (relMSE eps 1e-2); largest |difference| {:.3e} at "
+            fmt::print("error against {}{}: {} (relMSE eps 1e-2); largest |difference| {:.3e} at "
                        "pixel ({}, {})\n",
-                       a.reference, render::format_errors(*err), err->max_abs, err->max_x,
-                       err->max_y);
+                       a.reference, a.denoise ? " (denoised)" : "", render::format_errors(*err),
+                       err->max_abs, err->max_x, err->max_y);
+        if (err_noisy)
+            fmt::print("error against {} (noisy): {}\n", a.reference, render::format_errors(*err_noisy));
         if (a.stats) fmt::print("{}", render::format_profile_table(prof));
     }
     if (a.verbose) fmt::print(stderr, "{}", render::format_startup(startup));
@@ -370,6 +482,16 @@ int run_render(const RenderArgs& a) {
                           {"relmse", err->relmse}, {"relmse_eps", 1e-2}, {"mae", err->mae},
                           {"max_abs", err->max_abs}, {"max_x", err->max_x},
                           {"max_y", err->max_y}, {"reference_own_relmse", ref->own_relmse}};
+        if (a.denoise) {
+            nlohmann::json noisy = nlohmann::json::array();
+            for (const auto& o : noisy_outputs) noisy.push_back(o.string());
+            j["denoise"] = {{"ms", denoise_ms}, {"device_ms", denoise_device_ms},
+                            {"program_ms", denoise_program_ms},
+                            {"iterations", render::DenoiseSettings{}.iterations},
+                            {"restore_iterations", render::DenoiseSettings{}.restore_iterations},
+                            {"noisy_outputs", noisy}, {"biased", true}};
+            if (err_noisy) j["denoise"]["relmse_noisy"] = err_noisy->relmse;
+        }
         j["memory"] = render::memory_json(wf.memory());
         j["kernel_options"] = wf.options();
         j["startup"] = render::startup_json(startup);
@@ -439,6 +561,22 @@ Subcommand add_render(CLI::App& app) {
                 "multiply by n = spp to get s^2), as linear float RGB to OUT.var.exr next "
                 "to the EXR output (render.var.exr by default): the input of `compare "
                 "--variance` and of the reference checks of `converge`");
+    c->add_option("--aov", args->aov,
+                  "Also record feature buffers at each path's first non-specular hit and write "
+                  "them as channels of the EXR output: comma list of albedo (albedo.R/G/B), "
+                  "normal (normal.X/Y/Z, shading normal facing the camera), depth (depth.Z: "
+                  "path length from the camera, +inf where nothing was hit), or all. Averaged "
+                  "over each pixel's samples. Needs an .exr output or --aov-png");
+    c->add_flag("--aov-png", args->aov_png,
+                "Also write PNG previews of the --aov buffers next to the output: "
+                "OUT.albedo.png, OUT.normal.png ((n+1)/2), OUT.depth.png (grey, depth / "
+                "largest depth; white: no hit)");
+    c->add_flag("--denoise", args->denoise,
+                "Denoise: OUT gets the image filtered by wavepath's edge-avoiding a-trous "
+                "denoiser (guided by albedo, normal, depth and the per-pixel variance, which "
+                "it records), and the render itself is kept as OUT.noisy.EXT (render.exr -> "
+                "render.noisy.exr, x.png -> x.noisy.png). Denoised images are biased: use the "
+                "noisy one for z-tests (docs/denoise.md)");
     c->add_option("--reference", args->reference,
                   "Reference image (EXR of the same size) to measure the error against: "
                   "RMSE, relMSE = mean over pixels and channels of (x-r)^2/(r^2+0.01), MAE at "

@@ -74,6 +74,34 @@ ErrorMetrics compare_images(const Image& x, const Image& r, double relmse_eps = 
 void write_exr_layers(const std::filesystem::path& path, int w, int h,
                       const std::vector<std::pair<std::string, const float*>>& rgb_layers);
 
+// One named channel of a w x h image for write_exr_channels: channel value of pixel p is
+// data[p * stride + offset].
+struct ImageChannel {
+    std::string name;
+    const float* data = nullptr;
+    std::size_t stride = 1;
+    std::size_t offset = 0;
+};
+
+// Writes a linear float EXR with the given named channels (e.g. "R", "G", "B",
+// "albedo.R", "normal.X", "depth.Z"), atomically, with `attributes` in its header. Throws
+// wp::Error like write_image; the path must end in .exr and the names must be distinct.
+void write_exr_channels(const std::filesystem::path& path, int w, int h,
+                        const std::vector<ImageChannel>& channels,
+                        const std::vector<ImageAttribute>& attributes = {});
+
+// Every channel of an image file as float, by name (as OpenImageIO names them), w x h.
+struct ChannelImage {
+    int width = 0, height = 0;
+    std::vector<std::string> names;
+    std::vector<float> data;  // interleaved: pixel p, channel c at p * names.size() + c
+    // Channel `name`'s values (w * h); throws wp::Error naming the file's channels when absent.
+    std::vector<float> channel(const std::string& name) const;
+    bool has(const std::string& name) const;
+};
+// Throws wp::Error naming a missing or unreadable file.
+ChannelImage read_image_channels(const std::filesystem::path& path);
+
 // The sRGB transfer function (IEC 61966-2-1): linear in [0, 1] to encoded in [0, 1],
 // 12.92 x below 0.0031308, else 1.055 x^(1/2.4) - 0.055. No clamping.
 double srgb_encode(double linear);

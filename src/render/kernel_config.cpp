@@ -120,6 +120,23 @@ std::string KernelConfig::trace_options() const {
     return alpha_mask ? "-D WP_HAVE_ALPHA_MASK=1" : "";
 }
 
+std::string KernelConfig::aov_options() const {
+    std::string o;
+    if (normals) o += " -D WP_HAVE_NORMALS=1";
+    if (textures) o += " -D WP_HAVE_TEXTURES=1";
+    if (normal_maps) o += " -D WP_HAVE_NORMAL_MAPS=1";
+    return o.empty() ? o : o.substr(1);
+}
+
+bool KernelConfig::any_specular() const {
+    bool any = false;
+#define WP_KIND_SPECULAR_(KIND, Kind, name, specular, alpha, ior, etak) \
+    any |= (specular) && has(MaterialKind::Kind);
+    WP_MATERIAL_KINDS(WP_KIND_SPECULAR_)
+#undef WP_KIND_SPECULAR_
+    return any;
+}
+
 std::string KernelConfig::accumulate_options() const {
     std::string s = inject_options();
     return s.empty() ? s : s.substr(1);

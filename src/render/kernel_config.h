@@ -105,6 +105,9 @@ struct KernelConfig {
     std::string shade_options() const;       // materials, estimator, NEE, injection
     std::string accumulate_options() const;  // injection
     std::string trace_options() const;       // intersect and shadow: alpha cut-outs
+    std::string aov_options() const;         // aov (render/aov.h): normals, textures, normal maps
+    // Some material kind the scene has is specular in every event (material_kinds.h).
+    bool any_specular() const;
     // What the renderer prints with -v: the shade slice, the largest.
     std::string options() const { return shade_options(); }
 

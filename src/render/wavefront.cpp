@@ -27,6 +27,11 @@ void validate(const RenderSettings& s) {
     if (s.adaptive.min_spp < limits::kMinMinSpp || s.adaptive.min_spp > limits::kMaxSpp)
         fail("adaptive min spp {} is outside {} to {}", s.adaptive.min_spp, limits::kMinMinSpp,
              limits::kMaxSpp);
+    // The feature buffers are averaged over whole passes; adaptive waves run over the active
+    // pixels with per-pixel counts, which the AOV stage does not follow (yet).
+    if (s.aov && s.adaptive.enabled)
+        fail("feature buffers (--aov, --denoise) and adaptive sampling (--adaptive) cannot be "
+             "combined yet");
 }
 
 int next_error_check(int passes, int min_spp) {
@@ -71,6 +76,7 @@ Wavefront::Wavefront(ocl::Device& dev, const Scene& scene, const RenderSettings&
     pool_ = PathPool(dev, render::pool_capacity(dev, pixels, settings.pool, config_.nee(), reserve),
                      config_.nee());
     film_ = FilmBuffers(dev, pixels, settings_.variance, settings.film_segment);
+    if (settings_.aov) aov_ = AovBuffers(dev, pool_.capacity(), film_);
     memory_.capacity = dev.memory ? dev.memory->capacity() : dev.info.global_mem;
     memory_.max_alloc = dev.info.max_alloc;
     if (dev.memory)
@@ -78,9 +84,11 @@ Wavefront::Wavefront(ocl::Device& dev, const Scene& scene, const RenderSettings&
             if (b.id >= memory_from_) memory_.buffers.push_back(std::move(b));
     memory_.triangles = scene_.stats.triangles;
     memory_.pool_paths = pool_.capacity();
-    memory_.bytes_per_path = PathPool::bytes_per_path(config_.nee());
+    memory_.bytes_per_path =
+        PathPool::bytes_per_path(config_.nee()) + (settings.aov ? AovBuffers::kBytesPerPath : 0);
     memory_.pixels = pixels;
-    memory_.bytes_per_pixel = FilmBuffers::bytes_per_pixel(settings_.variance);
+    memory_.bytes_per_pixel = FilmBuffers::bytes_per_pixel(settings_.variance) +
+                              (settings_.aov ? AovBuffers::kBytesPerPixel : 0);
 
     // Programs (disk-cached), one per stage, each with its slice of the configuration.
     Timer prog_timer;
@@ -101,6 +109,7 @@ Wavefront::Wavefront(ocl::Device& dev, const Scene& scene, const RenderSettings&
                 if (b.id >= memory_from_) memory_.buffers.push_back(std::move(b));
         }
     }
+    if (settings_.aov) aov_stage_ = AovStage(dev, config_, &profiler_);
     scene_.stats.program_ms = prog_timer.ms();
     dev.queue.finish();
 }
@@ -108,7 +117,8 @@ Wavefront::Wavefront(ocl::Device& dev, const Scene& scene, const RenderSettings&
 std::vector<StartupProgram> Wavefront::program_builds() const {
     std::vector<StartupProgram> v;
     for (const ocl::Program* p : {&queues_.program(), &generate_.program(), &intersect_.program(),
-                                  &shade_.program(), &shadow_.program(), &accumulate_.program()})
+                                  &shade_.program(), &shadow_.program(), &accumulate_.program(),
+                                  &aov_stage_.program()})
         if (!p->file.empty()) v.push_back({p->file, p->build_ms, p->from_cache});
     if (active_) {
         const ocl::Program& p = active_->program();
@@ -120,7 +130,8 @@ std::vector<StartupProgram> Wavefront::program_builds() const {
 std::size_t Wavefront::film_bytes() const {
     return static_cast<std::size_t>(pixel_count()) *
            (FilmBuffers::bytes_per_pixel(settings_.variance) +
-            (settings_.error_estimate ? ActivePixels::kBytesPerPixel : 0));
+            (settings_.error_estimate ? ActivePixels::kBytesPerPixel : 0) +
+            (settings_.aov ? AovBuffers::kBytesPerPixel : 0));
 }
 
 int Wavefront::passes_per_wave() const {
@@ -136,6 +147,7 @@ void Wavefront::reset(std::uint32_t seed) {
     profiler_.resolve();
     profiler_.clear();
     film_.clear(dev_);
+    if (settings_.aov) aov_.clear(dev_);
     settings_.seed = seed;
     passes_ = 0;
     if (active_) active_->reset(dev_);
@@ -289,6 +301,9 @@ void Wavefront::run_wave(int first_pixel, std::uint32_t first_sample, int count,
         const PathQueue& out = pool_.queue[(b & 1) ^ 1];
         // Closest hits of the queued rays.
         intersect_.enqueue(live, in, scene_.bvh, pool_.hits, &scene_.shading.tex);
+        // Feature buffers at the first non-specular hit (render --aov, --denoise).
+        if (settings_.aov && aov_stage_.record_at(b))
+            aov_stage_.record(live, in, pool_.hits, scene_.shading, b, aov_);
         // Empty the queues shade fills (and count this bounce's rays).
         queues_.enqueue_reset(in.count, out.count, pool_.shadow.count, film_.ray_total);
         // Emission, scattering, light samples, push of the survivors.
@@ -316,6 +331,10 @@ void Wavefront::run_wave(int first_pixel, std::uint32_t first_sample, int count,
     } else {
         accumulate_.enqueue(pool_.radiance, first_pixel, count, n,
                             film_.segment_of(static_cast<std::size_t>(first_pixel)), film_.counters);
+        // AOVs follow the plain wave layout only (adaptive sampling refuses them: constructor)
+        if (settings_.aov)
+            aov_stage_.accumulate(aov_, first_pixel, count, n,
+                                  aov_.segment_of(static_cast<std::size_t>(first_pixel)));
     }
 }
 
@@ -359,6 +378,19 @@ FilmMoments Wavefront::moments() {
                 resolve_moments_into(s.data(), sq.data(), c, seg.first + k, passes_, m);
         }
     return m;
+}
+
+AovImages Wavefront::aovs() {
+    if (!settings_.aov) fail("the render keeps no AOVs (render settings without aov)");
+    const int w = settings_.width, h = settings_.height;
+    AovImages a{Image(w, h), Image(w, h), std::vector<float>(static_cast<std::size_t>(w) * h)};
+    for (const auto& seg : aov_.segments)
+        for (std::size_t k = 0; k < seg.size; k += kResolveChunk) {
+            std::size_t c = std::min(kResolveChunk, seg.size - k);
+            auto s = seg.sums.read(dev_, 2 * k, 2 * c);
+            resolve_aovs_into(s.data(), c, seg.first + k, passes_, a);
+        }
+    return a;
 }
 
 Image Wavefront::resolve() {

@@ -36,6 +36,7 @@
 #include "cl/profiler.h"
 #include "image/image.h"
 #include "render/adaptive.h"
+#include "render/aov.h"
 #include "render/device_scene.h"
 #include "render/film.h"
 #include "render/frame_state.h"
@@ -68,6 +69,9 @@ struct RenderSettings {
     std::uint32_t seed = 0;   // random stream; the same seed gives the same image
     bool jitter = true;       // random position inside each pixel (false: pixel centres)
     bool variance = false;    // also keep the per-pixel sum of squares (moments())
+    // Also record the feature buffers (albedo, normal, depth: aovs(); render/aov.h). Off:
+    // no AOV buffer is allocated and the aov program is not built.
+    bool aov = false;
     Traversal traversal = Traversal::Stackless;
     Estimator estimator;      // --sampling, --glossy, --sampler, --rr-depth
     // --kernels: the scene-specialised programs (the default) or the generic build with
@@ -161,6 +165,8 @@ class Wavefront {
     // Mean, sample variance and variance of the mean (render/film.h); needs
     // settings.variance, else throws wp::Error.
     FilmMoments moments();
+    // The feature buffers (render/aov.h); needs settings.aov, else throws wp::Error.
+    AovImages aovs();
 
     // Adaptive sampling and the error estimate (render/adaptive.h).
     bool adaptive() const { return settings_.adaptive.enabled; }
@@ -214,6 +220,8 @@ class Wavefront {
     ShadeStage shade_;
     ShadowStage shadow_;  // built only with NEE
     AccumulateStage accumulate_;
+    AovBuffers aov_;      // only with settings.aov
+    AovStage aov_stage_;  // only with settings.aov
     MemoryReport memory_;
     std::unique_ptr<ActivePixels> active_;  // with adaptive sampling or the error estimate
     int checked_at_ = -1;                   // passes of the latest adaptive check

@@ -109,6 +109,22 @@ constexpr double kViewerProfileInterval_s = 3.0; // its per-stage split (waits f
 constexpr double kViewerDisplayShare = 0.05;     // most of the render time spent showing frames
 constexpr int kViewerMaxFrames = 1 << 24;        // --frames
 
+// The denoise stage (render/denoise.h, kernels/denoise.cl; docs/denoise.md): à-trous
+// iterations (step 1, 2, 4, ... pixels) and the edge-stopping parameters of SVGF (Schied et
+// al. 2017): luminance against sqrt(variance) (σ_l), normals (cos^σ_n; σ_n a power of two,
+// applied by squaring), depth against its screen-space gradient (σ_z); albedo (σ_a,
+// wavepath's own: exp(-Σ|Δalbedo| / σ_a)). Albedo below kDenoiseMinAlbedo per channel is
+// not divided out (misses, black surfaces).
+constexpr int kDenoiseIterations = 5;
+constexpr int kMaxDenoiseIterations = 12;
+constexpr float kDenoiseSigmaLuminance = 4.0f;
+constexpr int kDenoiseNormalPower = 128;
+constexpr float kDenoiseSigmaDepth = 1.0f;
+constexpr float kDenoiseSigmaAlbedo = 0.1f;
+constexpr float kDenoiseMinAlbedo = 1e-3f;
+// The energy restore's iterations over the filter's residual (0: off; docs/denoise.md).
+constexpr int kDenoiseRestoreIterations = 5;
+
 // The estimator's defaults (sampling, glossy model, sampler, Russian roulette) are
 // kernels/shared/estimator.h's, read by the kernels and render::Estimator alike.
 
