@@ -18,6 +18,7 @@
 #include <cstdlib>
 #include <filesystem>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -39,6 +40,8 @@
 #include <GLFW/glfw3.h>
 
 #include "cl/device.h"
+#include "render/aov.h"
+#include "render/denoise.h"
 #include "render/film.h"
 #include "render/profile.h"
 #include "render/wavefront.h"
@@ -67,7 +70,22 @@ struct ViewArgs {
     std::string screenshot;  // with --frames: the window's pixels as PNG at the end
     bool quiet = false;
     bool no_show = false;    // measuring: render without reading back or drawing
+    bool views = false;      // --views: also keep AOVs and variance (V cycles the views)
+    std::string view = "color";
 };
+
+// What the window shows (V cycles them with --views). Every view but color reads the film
+// blocking (no double buffering); denoised runs the denoise stage (docs/denoise.md) on the
+// current film, as `render --denoise` does.
+enum class View { Color, Albedo, Normal, Depth, Variance, Denoised };
+constexpr const char* kViewNames[] = {"color", "albedo", "normal", "depth", "variance", "denoised"};
+constexpr int kViewCount = 6;
+
+std::optional<View> parse_view(const std::string& name) {
+    for (int i = 0; i < kViewCount; ++i)
+        if (name == kViewNames[i]) return static_cast<View>(i);
+    return std::nullopt;
+}
 
 bool have_display() {
     const char* x = std::getenv("DISPLAY");
@@ -90,7 +108,7 @@ struct Input {
     double scroll = 0.0;
     bool reset = false, pause = false, save = false, camera_save = false;
     int exposure_steps = 0;
-    bool next_curve = false, toggle_srgb = false;
+    bool next_curve = false, toggle_srgb = false, next_view = false;
     bool resized = false;
 };
 
@@ -106,6 +124,7 @@ void on_key(GLFWwindow* w, int key, int, int action, int) {
         case GLFW_KEY_MINUS: case GLFW_KEY_KP_SUBTRACT: --in->exposure_steps; break;
         case GLFW_KEY_T: in->next_curve = true; break;
         case GLFW_KEY_G: in->toggle_srgb = true; break;
+        case GLFW_KEY_V: in->next_view = true; break;
         case GLFW_KEY_ESCAPE: case GLFW_KEY_Q: glfwSetWindowShouldClose(w, GLFW_TRUE); break;
         default: break;
     }
@@ -164,7 +183,29 @@ struct Glfw {
     ~Glfw() { glfwTerminate(); }
 };
 
-int run_view_window(const ViewArgs& a, ToneMapping tone) {
+// The image of a view other than color, from the current film (blocking). variance: the
+// standard error sqrt(s^2 / n) per channel.
+Image view_image(render::Wavefront& wf, View v, std::unique_ptr<render::Denoiser>& dn) {
+    switch (v) {
+        case View::Albedo: return wf.aovs().albedo;
+        case View::Normal: return render::aov_preview_normal(wf.aovs());
+        case View::Depth: return render::aov_preview_depth(wf.aovs());
+        case View::Variance: {
+            Image img = wf.moments().mean_variance;
+            for (float& x : img.rgb) x = std::sqrt(std::max(x, 0.0f));
+            return img;
+        }
+        case View::Denoised: {
+            if (!dn) dn = std::make_unique<render::Denoiser>(wf.device());
+            render::FilmMoments m = wf.moments();
+            return dn->run(m.mean, m.mean_variance, wf.aovs());
+        }
+        case View::Color: break;
+    }
+    return wf.resolve();
+}
+
+int run_view_window(const ViewArgs& a, ToneMapping tone, View view) {
     glfwSetErrorCallback([](int, const char*) {});  // glfwInit's failure is reported below
     if (!glfwInit()) {
         const char* why = nullptr;
@@ -177,6 +218,8 @@ int run_view_window(const ViewArgs& a, ToneMapping tone) {
     Scene scene = load_scene(a.scene, a.quiet, &a.edits);
     render::RenderSettings s = make_settings(a.config, scene);
     s.seed = a.seed_given || !scene.render.seed ? static_cast<std::uint32_t>(a.seed) : *scene.render.seed;
+    if (a.views) s.aov = s.variance = true;  // the AOV, variance and denoised views
+    std::unique_ptr<render::Denoiser> denoiser;
     ocl::Device dev = ocl::Device::open(a.config.device);
     Camera camera = scene.camera;
     camera.width = s.width;
@@ -304,6 +347,13 @@ int run_view_window(const ViewArgs& a, ToneMapping tone) {
         if (input.next_curve) tone.curve = next_tone_curve(tone.curve), input.next_curve = false, dirty = true;
         if (input.toggle_srgb) tone.srgb = !tone.srgb, input.toggle_srgb = false, dirty = true;
         if (input.pause) paused = !paused, input.pause = false;
+        if (input.next_view) {
+            input.next_view = false;
+            if (a.views) {
+                view = static_cast<View>((static_cast<int>(view) + 1) % kViewCount);
+                need_read = true;
+            }
+        }
         Camera moved = camera;
         if (input.orbit_x != 0.0 || input.orbit_y != 0.0)
             moved = orbit_camera(moved, float(-input.orbit_x * limits::kViewerOrbitRadPerPixel),
@@ -398,7 +448,15 @@ int run_view_window(const ViewArgs& a, ToneMapping tone) {
         }
         if (!a.no_show && (ready || need_read || dirty)) {
             Timer t;
-            if (ready) {
+            if (view != View::Color && (ready || need_read)) {
+                // The other views read the current film (blocking): its passes so far.
+                if (ready) ready->done.wait(), ready->pending = false;
+                rays = ready ? ready->rays[0] + ready->rays[1] : rays;
+                ready = nullptr;
+                dev.queue.finish();
+                shown = view_image(*wf, view, denoiser);
+                shown_spp = wf->frames();
+            } else if (ready) {
                 ready->done.wait();
                 render::resolve_film_into(ready->film.data(), ready->film.size(), 0, ready->samples, shown);
                 shown_spp = ready->samples;
@@ -478,9 +536,10 @@ int run_view_window(const ViewArgs& a, ToneMapping tone) {
             const double share = render_ms_sum > 0.0 ? display_ms_sum / render_ms_sum : 0.0;
             std::string title = fmt::format(
                 "wavepath view | {} spp{} | {:.1f} ms/frame | {:.2f} Mrays/s | display {:.2f} ms "
-                "({:.1f}%) |{} | {} exp {:+.1f}{}",
+                "({:.1f}%) |{} | {}{} exp {:+.1f}{}",
                 shown_spp, paused ? " (paused)" : "", frame_ms, double(rays) / secs * 1e-6,
                 disp_ms, 100.0 * share, split,
+                view == View::Color ? "" : fmt::format("{} view, ", kViewNames[int(view)]),
                 tone_curve_name(tone.curve), tone.exposure, tone.srgb ? "" : " linear");
             glfwSetWindowTitle(win, title.c_str());
         }
@@ -522,6 +581,14 @@ int run_view(const ViewArgs& a) {
         usage_fail("--exposure must be in -{0}..{0} stops (got {1})", limits::kViewerMaxExposure, a.exposure);
     const auto curve = parse_tone_curve(a.tonemap);
     if (!curve) usage_fail("--tonemap must be clamp, reinhard or filmic (got '{}')", a.tonemap);
+    const auto view = parse_view(a.view);
+    if (!view)
+        usage_fail("--view must be color, albedo, normal, depth, variance or denoised (got '{}')", a.view);
+    if (*view != View::Color && !a.views)
+        usage_fail("--view {} needs --views (which keeps the AOVs and the variance)", a.view);
+    if (a.views && a.config.adaptive)
+        usage_fail("--views cannot be combined with --adaptive yet (the feature buffers follow the "
+                   "plain wave layout only)");
     check_scene_edits(a.edits);
     if (!a.screenshot.empty()) {
         if (fs::path(a.screenshot).extension() != ".png")
@@ -537,7 +604,7 @@ int run_view(const ViewArgs& a) {
     tone.exposure = a.exposure;
     tone.curve = *curve;
     tone.srgb = !a.no_srgb;
-    return run_view_window(a, tone);
+    return run_view_window(a, tone, *view);
 #endif
 }
 
@@ -552,7 +619,7 @@ Subcommand add_view(CLI::App& app) {
         "mouse and WASD navigation (restarts accumulation), and live numbers in the title. "
         "Keys: left drag orbit, right/middle drag pan, wheel dolly, W/A/S/D fly, R reset, "
         "Space pause, P save OUTPUT.exr/.png/.camera.json, C save the camera only, +/- "
-        "exposure, T tone curve, G sRGB on/off, Q/Esc quit. Needs a display ($DISPLAY or "
+        "exposure, T tone curve, G sRGB on/off, V next view (with --views), Q/Esc quit. Needs a display ($DISPLAY or "
         "$WAYLAND_DISPLAY); without one it exits 1 (use `render`).");
     auto* c = s.app;
     c->add_option("scene", args->scene, kSceneArgHelp);
@@ -584,6 +651,15 @@ Subcommand add_view(CLI::App& app) {
     c->add_option("--screenshot", args->screenshot,
                   "With --frames: write the window's pixels (read back from its framebuffer) "
                   "as this PNG at the end");
+    c->add_flag("--views", args->views,
+                "Also keep the feature buffers (albedo, normal, depth) and the variance, so that V "
+                "cycles the views color, albedo, normal, depth, variance (standard error) and "
+                "denoised (the denoise stage on the current film); costs what render --aov and "
+                "--variance cost, and the views other than color read the film blocking");
+    c->add_option("--view", args->view,
+                  "The view shown first: color, or with --views albedo, normal, depth, variance, "
+                  "denoised")
+        ->capture_default_str();
     c->add_flag("-q,--quiet", args->quiet, "No scene report, warnings or summary line");
     c->add_flag("--no-show", args->no_show,
                 "Measuring: render the passes the same way without reading back, tone mapping "

@@ -7,7 +7,8 @@
 //       1. clamp, exposure 0, sRGB: the window's pixels equal render's PNG, code for code;
 //       2. reinhard, exposure +1: each code is within 1 of round(255 srgb(y)) with
 //          y = 2x / (1 + 2x) computed here in double from render's EXR (the sRGB formula is
-//          written out here again, not taken from the program).
+//          written out here again, not taken from the program);
+//       3. --views --view denoised: equal to `render --denoise`'s PNG.
 //     XVFB_RUN "" (viewer component not built) or "-" (no xvfb-run): skipped, exit 77.
 //   viewer_test no-display WAVEPATH XVFB_RUN DIR
 //     `view` with $DISPLAY and $WAYLAND_DISPLAY unset exits 1, its message suggests
@@ -94,7 +95,8 @@ int screenshot(const std::string& wavepath, const std::string& xvfb, const fs::p
     // A deterministic seed; 64x48, 4 spp: identical images whatever the step sizes.
     const std::string common = " --size 64x48 --spp 4 --seed 7 --depth 4 -q";
     if (run(quote(wavepath) + " render" + common + " -o " + quote(d / "render.png")) != 0 ||
-        run(quote(wavepath) + " render" + common + " -o " + quote(d / "render.exr")) != 0) {
+        run(quote(wavepath) + " render" + common + " -o " + quote(d / "render.exr")) != 0 ||
+        run(quote(wavepath) + " render" + common + " --denoise -o " + quote(d / "denoised.png")) != 0) {
         std::printf("FAIL: render did not run\n");
         return 1;
     }
@@ -103,6 +105,8 @@ int screenshot(const std::string& wavepath, const std::string& xvfb, const fs::p
     check(run(view + " --screenshot " + quote(d / "view.png")) == 0, "view (clamp) exits 0");
     check(run(view + " --tonemap reinhard --exposure 1 --screenshot " + quote(d / "view_reinhard.png")) == 0,
           "view (reinhard, exposure +1) exits 0");
+    check(run(view + " --views --view denoised --screenshot " + quote(d / "view_denoised.png")) == 0,
+          "view (--views, denoised) exits 0");
 
     // 1. Clamp: the window's pixels are render's PNG.
     Pixels ref = read(d / "render.png", true), got = read(d / "view.png", true);
@@ -135,6 +139,21 @@ int screenshot(const std::string& wavepath, const std::string& xvfb, const fs::p
                              std::to_string(maxd) + ")");
     } else {
         check(false, "reinhard screenshot readable and 64x48");
+    }
+    // 3. The denoised view: render --denoise's PNG (the same denoise stage on the same film).
+    Pixels dn = read(d / "denoised.png", true), vdn = read(d / "view_denoised.png", true);
+    if (dn.w == vdn.w && dn.h == vdn.h && !dn.rgb.empty()) {
+        int differ = 0, maxd = 0;
+        for (std::size_t i = 0; i < dn.rgb.size(); ++i) {
+            int dd = std::abs(int(dn.rgb[i]) - int(vdn.rgb[i]));
+            differ += dd != 0;
+            maxd = std::max(maxd, dd);
+        }
+        check(dn.rgb != ref.rgb, "the denoised image is not the noisy one");
+        check(differ == 0, "denoised view equals render --denoise's PNG (" + std::to_string(differ) +
+                               " channels differ, largest by " + std::to_string(maxd) + ")");
+    } else {
+        check(false, "denoised screenshot readable and 64x48");
     }
     return failures ? 1 : 0;
 }
