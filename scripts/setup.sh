@@ -1,6 +1,8 @@
 #!/usr/bin/env bash
 # Installs wavepath's build and test dependencies from Debian packages, and what the plot
-# scripts in scripts/ import (python3-matplotlib, python3-numpy).
+# scripts in scripts/ import (python3-matplotlib, python3-numpy). The viewer (`wavepath
+# view`, docs/viewer.md): GLFW 3 and OpenGL to build it, Xvfb and Mesa's software OpenGL
+# (libgl1-mesa-dri) for its test.
 # Idempotent: installs only what is missing. Works as root or through sudo.
 set -euo pipefail
 
@@ -11,6 +13,7 @@ packages=(
   nlohmann-json3-dev libcli11-dev libfmt-dev libembree-dev oclgrind
   libassimp-dev libpugixml-dev libtinygltf-dev clang libclang-rt-14-dev
   python3-matplotlib python3-numpy
+  libglfw3-dev libgl-dev xvfb xauth libgl1-mesa-dri
 )
 
 missing=()

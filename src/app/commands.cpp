@@ -16,7 +16,7 @@ int run(int argc, char** argv) {
     app.set_version_flag("--version", std::string("wavepath ") + WP_VERSION);
     app.require_subcommand(1);
     std::vector<Subcommand> subs = {add_render(app), add_compare(app), add_converge(app),
-                                   add_bench(app), add_devices(app)};
+                                   add_bench(app), add_devices(app), add_view(app)};
     try {
         app.parse(argc, argv);
     } catch (const CLI::ParseError& e) {

@@ -18,5 +18,6 @@ Subcommand add_render(CLI::App& app);
 Subcommand add_bench(CLI::App& app);
 Subcommand add_compare(CLI::App& app);
 Subcommand add_converge(CLI::App& app);
+Subcommand add_view(CLI::App& app);  // cmd_view.cpp (docs/viewer.md)
 
 }  // namespace wp::app

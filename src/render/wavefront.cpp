@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <limits>
 
+#include "scene/upload.h"
 #include "util/error.h"
 #include "util/host_trace.h"
 #include "util/timer.h"
@@ -153,6 +154,15 @@ void Wavefront::reset(std::uint32_t seed) {
     checked_at_ = -1;
     adaptive_stats_ = {};
     dev_.queue.finish();
+}
+
+void Wavefront::set_camera(const Camera& camera) {
+    const CameraData next = upload_camera(camera, settings_.width, settings_.height, settings_.jitter);
+    if ((next.lens.x > 0.0f) != (scene_.camera.lens.x > 0.0f))
+        fail("set_camera: the camera's lens (radius {}) does not match the programs' ({})",
+             next.lens.x, scene_.camera.lens.x);
+    reset(settings_.seed);
+    scene_.camera = next;
 }
 
 void Wavefront::render_passes(int passes, const std::function<void(double)>& on_wave) {
@@ -396,6 +406,20 @@ Image Wavefront::resolve() {
                 resolve_film_into(s.data(), c, seg.first + k, passes_, img);
         }
     return img;
+}
+
+::cl::Event Wavefront::enqueue_film_read(std::vector<FilmPixel>& dst, cl_ulong* rays) {
+    dst.resize(static_cast<std::size_t>(pixel_count()));
+    ::cl::Event last;
+    if (rays) {
+        dev_.queue.enqueueReadBuffer(film_.ray_total.buffer, CL_FALSE, 0, sizeof(cl_ulong), &rays[0]);
+        dev_.queue.enqueueReadBuffer(film_.shadow_ray_total.buffer, CL_FALSE, 0, sizeof(cl_ulong), &rays[1]);
+    }
+    for (const auto& seg : film_.segments)
+        if (seg.size > 0)
+            dev_.queue.enqueueReadBuffer(seg.sum.buffer, CL_FALSE, 0, seg.size * sizeof(FilmPixel),
+                                         dst.data() + seg.first, nullptr, &last);
+    return last;
 }
 
 std::array<int, WP_COUNTER_COUNT> Wavefront::counters() {

@@ -116,6 +116,12 @@ class Wavefront {
     // Starts over with another seed: clears the film, counters, ray total and profile,
     // keeping programs and scene buffers (for repeated runs of one configuration).
     void reset(std::uint32_t seed);
+    // Moves the camera (the viewer): the generate stage's CameraData is made from `camera` by
+    // upload_camera (the one camera definition) at this render's size, and the film starts
+    // over as reset(seed) does. The lens must stay what the programs were built for (a
+    // pinhole stays a pinhole), and the field of view the scene's (ray cones); throws
+    // wp::Error otherwise, and for a degenerate camera.
+    void set_camera(const Camera& camera);
 
     // Samples per pixel so far (with adaptive sampling: of the pixels still active, the most
     // any pixel has).
@@ -148,6 +154,13 @@ class Wavefront {
     };
     RayTotals ray_totals();                             // the same, per kind of ray
     std::vector<FilmPixel> film();                      // the raw film
+    // The raw film as it will be once the work enqueued so far is done, read without
+    // blocking (the viewer's double buffering): enqueues reads of every segment into `dst`
+    // (resized to pixel_count()) and returns the last one's event (the queue is in order);
+    // `dst` must stay alive and untouched until it completes. Its sample count is frames()
+    // at the call. With `rays`, the ray totals are read along (into rays[0] closest hit,
+    // rays[1] shadow), so live numbers need no blocking read either.
+    ::cl::Event enqueue_film_read(std::vector<FilmPixel>& dst, cl_ulong* rays = nullptr);
     std::vector<FilmPixel> film_squares();              // its sum of squares (with variance)
     // Mean, sample variance and variance of the mean (render/film.h); needs
     // settings.variance, else throws wp::Error.

@@ -96,6 +96,19 @@ constexpr float kDefaultMicrofacetAlpha = 0.1f;
 constexpr float kMinIor = 0.01f;
 constexpr float kMaxIor = 100.0f;
 
+// The viewer (`wavepath view`, scene/camera_control.h, docs/viewer.md).
+constexpr float kViewerMaxPitchDeg = 89.0f;      // orbit stops this far from straight up/down
+constexpr float kViewerMinDistance = 1e-4f;      // dolly keeps position this far from target
+constexpr double kViewerOrbitRadPerPixel = 0.005;  // mouse drag
+constexpr double kViewerDollyPerScroll = 0.9;    // distance factor per wheel step
+constexpr double kViewerFlySpeed = 0.5;          // distances to target per second (WASD)
+constexpr double kViewerExposureStep = 0.5;      // stops per key press
+constexpr double kViewerMaxExposure = 20.0;      // |--exposure| in stops
+constexpr double kViewerTitleInterval_s = 0.5;   // live numbers in the title
+constexpr double kViewerProfileInterval_s = 3.0; // its per-stage split (waits for the queue)
+constexpr double kViewerDisplayShare = 0.05;     // most of the render time spent showing frames
+constexpr int kViewerMaxFrames = 1 << 24;        // --frames
+
 // The denoise stage (render/denoise.h, kernels/denoise.cl; docs/denoise.md): à-trous
 // iterations (step 1, 2, 4, ... pixels) and the edge-stopping parameters of SVGF (Schied et
 // al. 2017): luminance against sqrt(variance) (σ_l), normals (cos^σ_n; σ_n a power of two,
