@@ -30,11 +30,19 @@
 // Compile options: WP_HAVE_NORMALS, WP_HAVE_TEXTURES, WP_HAVE_NORMAL_MAPS (KernelConfig
 // aov_options(); all 0 without options).
 #include "shared/aov.h"
-#include "shared/appearance_features.h"
 #include "shared/film.h"
 #include "shared/shading.h"
 #include "shared/texture.h"
 
+#ifndef WP_HAVE_NORMALS
+#define WP_HAVE_NORMALS 0
+#endif
+#ifndef WP_HAVE_TEXTURES
+#define WP_HAVE_TEXTURES 0
+#endif
+#ifndef WP_HAVE_NORMAL_MAPS
+#define WP_HAVE_NORMAL_MAPS 0
+#endif
 
 WP_KERNEL void aov_record(WP_GLOBAL const Ray* rays_in, WP_GLOBAL const PathState* paths_in,
                           WP_GLOBAL const int* count_in, WP_GLOBAL const Hit* hits,

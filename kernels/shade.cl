@@ -36,7 +36,6 @@
 // Emission is one-sided: only the front face (counter-clockwise winding normal) emits.
 // Shading normals shape the BSDF only; geometric normals decide sides, ray offsets and
 // which directions are reflections (shading.h lists the failure modes and their guards).
-#include "shared/appearance_features.h"
 #include "shared/bsdf.h"
 #include "shared/envmap.h"
 #include "shared/film.h"
@@ -55,6 +54,21 @@
 #endif
 #ifndef WP_RR_DEPTH
 #define WP_RR_DEPTH WP_DEFAULT_RR_DEPTH
+#endif
+#ifndef WP_HAVE_NORMALS
+#define WP_HAVE_NORMALS 0
+#endif
+#ifndef WP_HAVE_TEXTURES
+#define WP_HAVE_TEXTURES 0
+#endif
+#ifndef WP_HAVE_NORMAL_MAPS
+#define WP_HAVE_NORMAL_MAPS 0
+#endif
+#ifndef WP_HAVE_ENV
+#define WP_HAVE_ENV 0
+#endif
+#ifndef WP_HAVE_ANISOTROPY
+#define WP_HAVE_ANISOTROPY 0
 #endif
 
 // The light arrays of shade_surface, bundled for the helpers.
