@@ -79,16 +79,12 @@ Wavefront::Wavefront(ocl::Device& dev, const Scene& scene, const RenderSettings&
     if (settings_.aov) aov_ = AovBuffers(dev, pool_.capacity(), film_);
     memory_.capacity = dev.memory ? dev.memory->capacity() : dev.info.global_mem;
     memory_.max_alloc = dev.info.max_alloc;
-    if (dev.memory)
-        for (auto& b : dev.memory->live())
-            if (b.id >= memory_from_) memory_.buffers.push_back(std::move(b));
     memory_.triangles = scene_.stats.triangles;
     memory_.pool_paths = pool_.capacity();
     memory_.bytes_per_path =
         PathPool::bytes_per_path(config_.nee()) + (settings.aov ? AovBuffers::kBytesPerPath : 0);
     memory_.pixels = pixels;
-    memory_.bytes_per_pixel = FilmBuffers::bytes_per_pixel(settings_.variance) +
-                              (settings_.aov ? AovBuffers::kBytesPerPixel : 0);
+    memory_.bytes_per_pixel = film_bytes() / pixels;  // film, AOVs, active list and errors
 
     // Programs (disk-cached), one per stage, each with its slice of the configuration.
     Timer prog_timer;
@@ -99,18 +95,15 @@ Wavefront::Wavefront(ocl::Device& dev, const Scene& scene, const RenderSettings&
     shade_ = ShadeStage(dev, config_, &profiler_);
     if (config_.nee()) shadow_ = ShadowStage(dev, config_, &profiler_);
     accumulate_ = AccumulateStage(dev, config_, settings_.variance, &profiler_);
-    if (settings_.error_estimate) {
-        // The active list and the per-pixel errors (8 bytes a pixel) join the film's group.
+    // The active list and the per-pixel errors (8 bytes a pixel) join the film's group.
+    if (settings_.error_estimate)
         active_ = std::make_unique<ActivePixels>(dev, settings_.width, settings_.height, &profiler_);
-        memory_.bytes_per_pixel += ActivePixels::kBytesPerPixel;
-        if (dev.memory) {
-            memory_.buffers.clear();
-            for (auto& b : dev.memory->live())
-                if (b.id >= memory_from_) memory_.buffers.push_back(std::move(b));
-        }
-    }
     if (settings_.aov) aov_stage_ = AovStage(dev, config_, &profiler_);
     scene_.stats.program_ms = prog_timer.ms();
+    // Every device buffer this renderer made (the memory report).
+    if (dev.memory)
+        for (auto& b : dev.memory->live())
+            if (b.id >= memory_from_) memory_.buffers.push_back(std::move(b));
     dev.queue.finish();
 }
 
