@@ -55,9 +55,7 @@ AovBuffers::AovBuffers(const ocl::Device& dev, std::size_t pool_capacity, const 
 }
 
 const AovSegment& AovBuffers::segment_of(std::size_t p) const {
-    for (const auto& s : segments)
-        if (p < s.first + s.size) return s;
-    fail("pixel {} is outside the AOV film", p);
+    return segment_holding(segments, p, "AOV film");
 }
 
 void AovBuffers::clear(const ocl::Device& dev) const {

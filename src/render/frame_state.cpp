@@ -62,9 +62,7 @@ FilmBuffers::FilmBuffers(const ocl::Device& dev, std::size_t pixels, bool with_v
 }
 
 const FilmSegment& FilmBuffers::segment_of(std::size_t p) const {
-    for (const auto& s : segments)
-        if (p < s.first + s.size) return s;
-    fail("pixel {} is outside the film", p);
+    return segment_holding(segments, p, "film");
 }
 
 void FilmBuffers::clear(const ocl::Device& dev) const {

@@ -20,6 +20,7 @@
 
 #include "cl/kernel.h"
 #include "shared/types.h"
+#include "util/error.h"
 
 namespace wp::render {
 
@@ -65,6 +66,15 @@ class PathPool {
 };
 
 // Pixels [first, first + size) of the film in one buffer (and its sum of squares).
+// The segment of `segments` (each with `first` and `size`, in pixel order) that holds
+// pixel p; throws wp::Error naming `what` when none does. The film's and the AOVs'.
+template <typename Segment>
+const Segment& segment_holding(const std::vector<Segment>& segments, std::size_t p, const char* what) {
+    for (const auto& s : segments)
+        if (p < s.first + s.size) return s;
+    fail("pixel {} is outside the {}", p, what);
+}
+
 struct FilmSegment {
     std::size_t first = 0, size = 0;
     ocl::Array<FilmPixel> sum;
