@@ -8,6 +8,7 @@
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
+#include <filesystem>
 #include <fstream>
 #include <sstream>
 #include <string>
@@ -17,6 +18,7 @@
 #include "image/image.h"
 #include "image/stats.h"
 #include "render/adaptive.h"
+#include "render/aov.h"
 #include "render/loop.h"
 #include "render/wavefront.h"
 #include "scene/builtin.h"
@@ -475,6 +477,60 @@ TEST_CASE("adaptive: counts, active list and film match a brute-force simulation
     }
 }
 
+// Adaptive sampling with the feature buffers (render --adaptive --aov/--denoise): the AOVs
+// run over the active list (aov_accumulate_active) and each pixel's are the plain render's
+// after the pixel's own count, bit for bit (same samples, same order, same division), with
+// the default pool and with a pool that cuts a pass into chunks and a film in segments.
+TEST_CASE("adaptive: the AOVs are the plain render's at each pixel's own count",
+          "[render][adaptive][aov]") {
+    Scene scene = plates_with_background();
+    const int w = 16, h = 12, max_spp = 24;
+    const std::size_t n = std::size_t(w) * h;
+    render::RenderSettings s = small_settings(w, h, 9);
+    s.aov = true;
+    std::vector<render::AovImages> plain(max_spp + 1);
+    {
+        render::Wavefront wf(test::device(), scene, s);
+        for (int p = 1; p <= max_spp; ++p) {
+            wf.render_passes(1);
+            plain[p] = wf.aovs();
+        }
+    }
+    struct Cut {
+        std::size_t pool, segment;
+    };
+    for (Cut cut : {Cut{0, 0}, Cut{37, 50}}) {
+        INFO("pool " << cut.pool << ", film segment " << cut.segment);
+        render::RenderSettings a = s;
+        a.adaptive.enabled = true;
+        a.adaptive.threshold = 2e-3;
+        a.adaptive.min_spp = 4;
+        a.pool = cut.pool;
+        a.film_segment = cut.segment;
+        render::Wavefront wf(test::device(), scene, a);
+        render::LoopOptions lo;
+        lo.spp = max_spp;
+        render::render_frames(wf, lo, nullptr);
+        const std::vector<int> counts = wf.sample_counts();
+        const render::AovImages got = wf.aovs();
+        int differs = 0, stopped = 0, hit = 0;
+        for (std::size_t p = 0; p < n; ++p) {
+            const render::AovImages& want = plain[counts[p]];
+            stopped += counts[p] < max_spp;
+            hit += std::isfinite(want.depth[p]);
+            for (int c = 0; c < 3; ++c) {
+                differs += got.albedo.rgb[3 * p + c] != want.albedo.rgb[3 * p + c];
+                differs += got.normal.rgb[3 * p + c] != want.normal.rgb[3 * p + c];
+            }
+            differs += std::memcmp(&got.depth[p], &want.depth[p], sizeof(float)) != 0;
+        }
+        CHECK(stopped > 20);
+        CHECK(stopped < int(n));
+        CHECK(hit > 20);
+        CHECK(differs == 0);
+    }
+}
+
 // Pixels of zero variance (background, black plates at depth 0) with neighbours of zero
 // variance stop at min spp exactly,
 // noisy ones (edges, jittered) keep going; and a loop asked for 2^20 spp ends as soon as
@@ -664,6 +720,13 @@ TEST_CASE("render CLI: --target-error and --adaptive", "[render][cli][adaptive]"
     REQUIRE(r.status == 0);
     CHECK(!read_image_attribute(d.path / "plain.exr", "wavepath:replicates"));
 
+    // --adaptive with the feature buffers and the denoiser (the AOVs follow the active list).
+    r = test::run_render(d.path, "--size 16x12 --adaptive --min-spp 4 --spp 16 --aov albedo --denoise -o ad.exr");
+    INFO(r.err);
+    REQUIRE(r.status == 0);
+    CHECK(std::filesystem::exists(d.path / "ad.exr"));
+    CHECK(std::filesystem::exists(d.path / "ad.noisy.exr"));
+
     r = test::run_render(d.path, "--size 32x24 --adaptive --spp 64 -o a.exr");
     REQUIRE(r.status == 0);
     auto mean = read_image_attribute(d.path / "a.exr", "wavepath:mean_spp");
@@ -673,7 +736,6 @@ TEST_CASE("render CLI: --target-error and --adaptive", "[render][cli][adaptive]"
 
     for (const char* bad : {"--adaptive-threshold 1e-3", "--adaptive --adaptive-threshold 0",
                             "--adaptive --min-spp 1", "--target-error -1", "--target-error nan",
-                            "--adaptive --denoise", "--adaptive --aov albedo",
                             "--target-error 1e-2 --replicates 3", "--replicates -1",
                             "--replicates 128", "--target-error 1e-2 --replicates 65",
                             "--replicates x", "--replicates 4.5"}) {

@@ -126,8 +126,6 @@ Config parse_config(const std::string& spec) {
         usage_fail("--config '{}': {} (a configuration takes --depth, --size, --device, --traversal, --sampling, --glossy, --sampler, --rr-depth, --pool, --kernels, --adaptive, --adaptive-threshold, --min-spp, --denoise)",
              spec, e.what());
     }
-    if (c.denoise && c.args.adaptive)
-        usage_fail("--config '{}': --denoise cannot be combined with --adaptive yet", spec);
     return c;
 }
 

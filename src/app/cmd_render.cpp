@@ -143,9 +143,6 @@ int run_render(const RenderArgs& a) {
     parse_debug_nan(a.debug_nan);  // checked before any work
     const render::AovSet aov_set = a.aov.empty() ? render::AovSet{} : render::parse_aov_list(a.aov);
     if (a.aov_png && !aov_set.any()) usage_fail("--aov-png needs --aov (which AOVs to preview)");
-    if (a.config.adaptive && (aov_set.any() || a.denoise))
-        usage_fail("--adaptive cannot be combined with --aov or --denoise yet (the feature buffers "
-                   "are averaged over whole passes); --target-error alone can");
     check_scene_edits(a.edits);
 
     // 2. Outputs: checked before any work, so a bad path fails in milliseconds.

@@ -29,11 +29,6 @@ void validate(const RenderSettings& s) {
              limits::kMaxSpp);
     if (s.replicates < 1 || s.replicates > limits::kMaxReplicates || (s.replicates & (s.replicates - 1)) != 0)
         fail("replicates {} must be a power of two in 1..{}", s.replicates, limits::kMaxReplicates);
-    // The feature buffers are averaged over whole passes; adaptive waves run over the active
-    // pixels with per-pixel counts, which the AOV stage does not follow (yet).
-    if (s.aov && s.adaptive.enabled)
-        fail("feature buffers (--aov, --denoise) and adaptive sampling (--adaptive) cannot be "
-             "combined yet");
 }
 
 int next_error_check(int passes, int min_spp, int replicates) {
@@ -329,11 +324,14 @@ void Wavefront::run_wave(int first_pixel, std::uint32_t first_sample, int count,
         const auto p = static_cast<std::size_t>(active_->list()[static_cast<std::size_t>(first_pixel)]);
         accumulate_.enqueue_active(pool_.radiance, active_->device_list(), first_pixel, count,
                                    active_count, film_.segment_of(p), film_.counters, first_sample);
+        // The feature buffers over the same list (the AOV segments are the film's).
+        if (settings_.aov)
+            aov_stage_.accumulate_active(aov_, active_->device_list(), first_pixel, count,
+                                         active_count, aov_.segment_of(p));
     } else {
         accumulate_.enqueue(pool_.radiance, first_pixel, count, n,
                             film_.segment_of(static_cast<std::size_t>(first_pixel)), film_.counters,
                             first_sample);
-        // AOVs follow the plain wave layout only (adaptive sampling refuses them: constructor)
         if (settings_.aov)
             aov_stage_.accumulate(aov_, first_pixel, count, n,
                                   aov_.segment_of(static_cast<std::size_t>(first_pixel)));
@@ -396,11 +394,15 @@ AovImages Wavefront::aovs() {
     if (!settings_.aov) fail("the render keeps no AOVs (render settings without aov)");
     const int w = settings_.width, h = settings_.height;
     AovImages a{Image(w, h), Image(w, h), std::vector<float>(static_cast<std::size_t>(w) * h)};
+    const std::vector<int> counts = adaptive() ? sample_counts() : std::vector<int>{};
     for (const auto& seg : aov_.segments)
         for (std::size_t k = 0; k < seg.size; k += kResolveChunk) {
             std::size_t c = std::min(kResolveChunk, seg.size - k);
             auto s = seg.sums.read(dev_, 2 * k, 2 * c);
-            resolve_aovs_into(s.data(), c, seg.first + k, passes_, a);
+            if (adaptive())
+                resolve_aovs_into(s.data(), c, seg.first + k, counts.data() + seg.first + k, a);
+            else
+                resolve_aovs_into(s.data(), c, seg.first + k, passes_, a);
         }
     return a;
 }
