@@ -82,8 +82,8 @@ void FilmBuffers::clear(const ocl::Device& dev) const {
 }
 
 std::size_t pool_capacity(const ocl::Device& dev, std::size_t pixels, std::size_t requested, bool nee,
-                          std::size_t reserve) {
-    const std::size_t per_path = PathPool::bytes_per_path(nee);
+                          std::size_t reserve, std::size_t extra_per_path) {
+    const std::size_t per_path = PathPool::bytes_per_path(nee) + extra_per_path;
     const std::size_t widest = std::max(sizeof(Ray), sizeof(PathState));  // largest array element
     if (requested > 0) {
         dev.check_alloc(requested * widest, "a path pool array (--pool)");

@@ -114,9 +114,11 @@ struct FilmBuffers {
 // The pool capacity for a render of `pixels` pixels: `requested` when > 0, else the smallest
 // of kDefaultCapacity, 16 passes of the image, what the device's memory share holds and what
 // its free memory holds after keeping `reserve` bytes back (the film, allocated after the
-// pool); at least one work-group. Throws wp::Error when a requested pool does not fit.
+// pool); at least one work-group. `extra_per_path`: bytes per path of other arrays sized by
+// the pool (the AOV items, AovBuffers::kBytesPerPath), counted with the pool's own. Throws
+// wp::Error when a requested pool does not fit.
 std::size_t pool_capacity(const ocl::Device& dev, std::size_t pixels, std::size_t requested, bool nee,
-                          std::size_t reserve = 0);
+                          std::size_t reserve = 0, std::size_t extra_per_path = 0);
 
 }  // namespace wp::render
 

@@ -73,7 +73,9 @@ Wavefront::Wavefront(ocl::Device& dev, const Scene& scene, const RenderSettings&
     const auto pixels = static_cast<std::size_t>(pixel_count());
     // An automatic pool leaves room for the film and the few small buffers after it.
     const std::size_t reserve = film_bytes() + kSmallBuffersBytes;
-    pool_ = PathPool(dev, render::pool_capacity(dev, pixels, settings.pool, config_.nee(), reserve),
+    // The AOV items (2 float4 a path) are sized by the pool too.
+    const std::size_t aov_per_path = settings_.aov ? AovBuffers::kBytesPerPath : 0;
+    pool_ = PathPool(dev, render::pool_capacity(dev, pixels, settings.pool, config_.nee(), reserve, aov_per_path),
                      config_.nee());
     film_ = FilmBuffers(dev, pixels, settings_.variance, settings.film_segment, settings_.replicates);
     if (settings_.aov) aov_ = AovBuffers(dev, pool_.capacity(), film_);
