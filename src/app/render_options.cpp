@@ -105,7 +105,7 @@ void add_config_options(CLI::App* c, ConfigArgs& a) {
                               "scrambled Sobol sequence, and --target-error estimates each pixel's "
                               "variance from the spread of its K replicate means (s^2/n overstates "
                               "the error of Sobol points; --adaptive's per-pixel stopping keeps "
-                              "s^2/n). Estimates then fall on multiples of K samples. Costs part of "
+                              "s^2/n). Estimates and --adaptive checks then fall on multiples of K samples. Costs part of "
                               "Sobol's advantage at equal samples (docs/adaptive.md). 0 = auto: {} "
                               "with --target-error and --sampler sobol, else 1 (none)",
                               limits::kMaxReplicates, limits::kDefaultReplicates))
