@@ -706,6 +706,10 @@ TEST_CASE("render CLI: --target-error and --adaptive", "[render][cli][adaptive]"
     r = test::run_render(d.path, "--size 16x12 --target-error 1e-2 --sampler random -o rand.exr");
     REQUIRE(r.status == 0);
     CHECK(read_image_attribute(d.path / "rand.exr", "wavepath:replicates") == std::optional<std::string>("1"));
+    // --replicates 0 is auto, explicitly.
+    r = test::run_render(d.path, "--size 16x12 --target-error 1e-2 --replicates 0 -o auto.exr");
+    REQUIRE(r.status == 0);
+    CHECK(read_image_attribute(d.path / "auto.exr", "wavepath:replicates") == std::optional<std::string>("4"));
     r = test::run_render(d.path, "--size 16x12 --target-error 1e-2 --replicates 8 --profile p.json -o r8.exr");
     REQUIRE(r.status == 0);
     CHECK(read_image_attribute(d.path / "r8.exr", "wavepath:replicates") == std::optional<std::string>("8"));
