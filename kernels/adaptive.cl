@@ -9,6 +9,10 @@
 //   writes  error[first + k] = the pixel's estimated relMSE (wp_pixel_relmse, eps)
 //   pushes  nothing. Launched over count items; the host compares with the threshold and
 //           compacts the list.
+// adaptive_error_replicates
+//   the same, and also image_error[first + k] = the pixel's estimate from its RQMC
+//   replicates (wp_pixel_relmse_replicates; film_rep: the segment's replicate sums, K per
+//   pixel), which --target-error averages; adaptive stopping keeps reading `error`.
 #include "shared/adaptive.h"
 
 WP_KERNEL void adaptive_error(WP_GLOBAL const int* active, int first, int count, int film_first,
@@ -18,4 +22,18 @@ WP_KERNEL void adaptive_error(WP_GLOBAL const int* active, int first, int count,
     if (k >= count) return;
     int f = active[first + k] - film_first;  // the pixel's slot in this film segment
     error[first + k] = wp_pixel_relmse(film[f], film_sq[f], samples, eps);
+}
+
+WP_KERNEL void adaptive_error_replicates(WP_GLOBAL const int* active, int first, int count,
+                                         int film_first, WP_GLOBAL const FilmPixel* film,
+                                         WP_GLOBAL const FilmPixel* film_sq,
+                                         WP_GLOBAL const FilmPixel* film_rep, int replicates,
+                                         int samples, float eps, WP_GLOBAL float* error,
+                                         WP_GLOBAL float* image_error) {
+    int k = wp_global_id();
+    if (k >= count) return;
+    int f = active[first + k] - film_first;
+    error[first + k] = wp_pixel_relmse(film[f], film_sq[f], samples, eps);
+    image_error[first + k] = wp_pixel_relmse_replicates(film[f], film_sq[f], film_rep + f * replicates,
+                                                        replicates, samples, eps);
 }

@@ -27,6 +27,11 @@
 //         of the wave, in sample order (the sums do not depend on the wave sizes)
 // pushes  nothing. Launched over min(count, pixel_count) items.
 //
+// aov_accumulate_active
+//   adaptive sampling: the same for a wave over the active-pixel list (generate_camera_active,
+//   accumulate_film_active): work-item j takes list entry first + j, pixel active[first + j],
+//   and adds its items j, j + active_count, ... in sample order.
+//
 // Compile options: WP_HAVE_NORMALS, WP_HAVE_TEXTURES, WP_HAVE_NORMAL_MAPS (KernelConfig
 // aov_options(); all 0 without options).
 #include "shared/aov.h"
@@ -114,6 +119,28 @@ WP_KERNEL void aov_record(WP_GLOBAL const Ray* rays_in, WP_GLOBAL const PathStat
     const float state = wp_aov_specular_kind(m.kind) ? WP_AOV_SPECULAR : WP_AOV_HIT;
     aov[2 * item] = wp_float4(albedo, depth);
     aov[2 * item + 1] = wp_float4(ns, state);
+}
+
+// Adds items j, j + stride, ... < count to film slot f.
+WP_FN void wp_aov_accumulate_pixel(WP_GLOBAL const float4* aov, int j, int f, int count, int stride,
+                                   WP_GLOBAL float4* film) {
+    float4 a = film[2 * f], b = film[2 * f + 1];
+    for (int i = j; i < count; i += stride) {
+        float4 x = aov[2 * i], y = aov[2 * i + 1];
+        if (y.w == WP_AOV_MISS) continue;  // adds 0 to every sum
+        a = a + x;                         // albedo and depth
+        b = b + make_float4(y.x, y.y, y.z, 1.0f);
+    }
+    film[2 * f] = a;
+    film[2 * f + 1] = b;
+}
+
+WP_KERNEL void aov_accumulate_active(WP_GLOBAL const float4* aov, WP_GLOBAL const int* active,
+                                     int first, int count, int active_count, int film_first,
+                                     WP_GLOBAL float4* film) {
+    int j = wp_global_id();
+    if (j >= min(count, active_count)) return;
+    wp_aov_accumulate_pixel(aov, j, active[first + j] - film_first, count, active_count, film);
 }
 
 WP_KERNEL void aov_accumulate(WP_GLOBAL const float4* aov, int first_pixel, int count,

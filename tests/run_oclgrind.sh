@@ -39,11 +39,16 @@ if [ -n "$wavepath" ]; then
   dir=$(mktemp -d)
   trap 'rm -f "$log"; rm -rf "$dir"' EXIT
   # The third run: adaptive sampling with a target error (the active-list generate and
-  # accumulate kernels, adaptive_error; docs/adaptive.md), stopped by --spp.
-  for run_args in "builtin:cornell-box --spp 2" "builtin:veach-plates --spp 2" \
-                  "builtin:veach-plates --spp 12 --adaptive --min-spp 2 --adaptive-threshold 1e-2 --target-error 1e-6"; do
+  # accumulate kernels, adaptive_error; docs/adaptive.md), stopped by --spp. The fourth: the
+  # same with RQMC replicates (accumulate_film_active_replicates, adaptive_error_replicates)
+  # and an AOV over the active list (aov_accumulate_active).
+  # (No Sobol run, with or without replicates: LLVM turns the bit reversals of sobol.h into
+  # llvm.bitreverse.i32, which Oclgrind 21.10 cannot run, "Undefined external function".)
+  for run_args in "builtin:cornell-box --spp 2 --sampler random" "builtin:veach-plates --spp 2 --sampler random" \
+                  "builtin:veach-plates --spp 12 --sampler random --adaptive --min-spp 2 --adaptive-threshold 1e-2 --target-error 1e-6" \
+                  "builtin:veach-plates --spp 8 --sampler random --adaptive --min-spp 2 --adaptive-threshold 1e-2 --target-error 1e-6 --replicates 2 --aov albedo"; do
     read -r -a extra <<<"$run_args"
-    args=(render "${extra[0]}" --size 8x6 --depth 3 --seed 3 --sampler random --variance -q "${extra[@]:1}")
+    args=(render "${extra[0]}" --size 8x6 --depth 3 --seed 3 --variance -q "${extra[@]:1}")
     : >"$log"
     echo "run_oclgrind: oclgrind --check-api --data-races wavepath ${args[*]}"
     "$oclgrind" --check-api --data-races --log "$log" "$wavepath" "${args[@]}" -o "$dir/og.exr" || status=1

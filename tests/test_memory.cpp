@@ -250,6 +250,23 @@ TEST_CASE("render CLI: a scene larger than the device's memory fails before rend
         CHECK(d.empty_of_images());
     }
     {
+        // The automatic pool counts the AOV items (2 float4 a path) with its own arrays: at
+        // 80 MiB a 1000 x 900 film with AOVs (54.9 MiB) leaves the pool less than its 25 %
+        // share, and a pool sized without the AOV items left too little for the film's
+        // AOVs ("not enough device memory for the film's AOVs" before the fix).
+        ScopedEnv env("WP_DEVICE_MEMORY_LIMIT", "80M");
+        auto r = test::run_render(d.path, "--size 1000x900 --spp 1 --aov albedo -o aov.exr --profile aov.json");
+        INFO(r.err);
+        CHECK(r.status == 0);
+        auto j = nlohmann::json::parse(std::ifstream(d.path / "aov.json"));
+        CHECK(j["memory"]["bytes_per_path"].get<std::size_t>() ==
+              render::PathPool::bytes_per_path(true) + render::AovBuffers::kBytesPerPath);
+        CHECK(j["memory"]["total_bytes"].get<std::uint64_t>() <= 80u << 20);
+        fs::remove(d.path / "aov.exr");
+        fs::remove(d.path / "aov.json");
+        fs::remove(d.path / "aov.trace.json");
+    }
+    {
         ScopedEnv env("WP_DEVICE_MAX_ALLOC", "500K");
         auto r = test::run_render(d.path, "--size 64x48 --spp 1 -o out.exr");
         INFO(r.err);

@@ -39,6 +39,55 @@ WP_FN float wp_pixel_relmse(FilmPixel sum, FilmPixel sq, int n, float eps) {
     return e / 3.0f;
 }
 
+// RQMC replicates (rng.h, render --replicates): with K replicates the pixel's samples are K
+// independent randomised-QMC estimates, replicate r having n_r samples (n / K each when K
+// divides n, the renderer's case; else the first n mod K replicates one more). With the
+// replicate means m_r = S_r / n_r and their mean mbar, the variance of the pixel's mean is
+// estimated by
+//     v = Σ_r (m_r − mbar)² / (K (K − 1)),
+// unbiased for independent equal-count replicates whatever the points' stratification
+// (where s² / n overstates the variance of a stratified mean). The pixel's estimate is then
+// (1/3) Σ_c v_c / (m_c² + eps), m the pixel's mean (S1 / n). `rep` points at the pixel's K
+// replicate sums. Below 2K samples (fewer than two per replicate) it is s² / n
+// (wp_pixel_relmse): each replicate mean is then one sample or two, the estimate that of
+// so few samples.
+WP_FN float wp_pixel_relmse_replicates(FilmPixel sum, FilmPixel sq, WP_GLOBAL const FilmPixel* rep,
+                                       int replicates, int n, float eps) {
+    if (n < 2 * replicates || replicates < 2) return wp_pixel_relmse(sum, sq, n, eps);
+    int base = n / replicates, extra = n - base * replicates;
+    float3 mbar = make_float3(0.0f, 0.0f, 0.0f);
+    for (int r = 0; r < replicates; ++r) {
+        FilmPixel p = rep[r];
+        float nr = (float)(base + (r < extra ? 1 : 0));
+        mbar.x += (p.sum.x + p.comp.x) / nr;
+        mbar.y += (p.sum.y + p.comp.y) / nr;
+        mbar.z += (p.sum.z + p.comp.z) / nr;
+    }
+    float fk = (float)replicates;
+    mbar.x /= fk;
+    mbar.y /= fk;
+    mbar.z /= fk;
+    float3 ss = make_float3(0.0f, 0.0f, 0.0f);
+    for (int r = 0; r < replicates; ++r) {
+        FilmPixel p = rep[r];
+        float nr = (float)(base + (r < extra ? 1 : 0));
+        float dx = (p.sum.x + p.comp.x) / nr - mbar.x;
+        float dy = (p.sum.y + p.comp.y) / nr - mbar.y;
+        float dz = (p.sum.z + p.comp.z) / nr - mbar.z;
+        ss.x += dx * dx;
+        ss.y += dy * dy;
+        ss.z += dz * dz;
+    }
+    float norm = fk * (fk - 1.0f);
+    float fn = (float)n;
+    float mx = (sum.sum.x + sum.comp.x) / fn;
+    float my = (sum.sum.y + sum.comp.y) / fn;
+    float mz = (sum.sum.z + sum.comp.z) / fn;
+    float e = ss.x / norm / (mx * mx + eps) + ss.y / norm / (my * my + eps) +
+              ss.z / norm / (mz * mz + eps);
+    return e / 3.0f;
+}
+
 WP_NAMESPACE_END
 
 #endif  // WP_ADAPTIVE_H

@@ -61,14 +61,44 @@ WP_FN Rng4 wp_pcg4d(uint a, uint b, uint c, uint d) {
 // A uniform float in [0, 1) from the top 24 bits of a word (exactly representable).
 WP_FN float wp_uint_to_unit(uint x) { return (float)(x >> 8) * (1.0f / 16777216.0f); }
 
+// RQMC replicates (WP_SOBOL_REPLICATES = K, a power of two; only defined when K > 1, so
+// K = 1 compiles to the sampler of before): sample s of a pixel belongs to replicate
+// r = s mod K and is point s / K of replicate r's own Owen-scrambled Sobol sequence, its
+// scramble seed hashed from (the pixel's seed, r). Each replicate's samples of a pixel are
+// then a prefix 0, 1, 2, ... of an independently scrambled (0,2)-sequence: K independent
+// RQMC estimates of the pixel, whose spread estimates the variance of their mean
+// (kernels/shared/adaptive.h). With K = 1 the index is s and the seed the pixel's seed.
+#ifndef WP_SOBOL_REPLICATES
+#define WP_SOBOL_REPLICATES 1
+#endif
+
+// The scramble seed of replicate r of a dimension group whose K = 1 seed is `base`.
+WP_FN uint wp_replicate_scramble(uint base, uint r) {
+    return wp_pcg4d(base, r, 0x7e91cu, 0x50b02u).x;
+}
+
+// Four Owen-scrambled Sobol numbers (32-bit words) for (seed, pixel, sample, bounce, group)
+// with `replicates` RQMC replicates (a power of two; 1: none). A function of its own so the
+// host can reproduce any K (tests/test_adaptive.cpp); the kernels pass the constant.
+WP_FN uint4 wp_sobol_rng4(uint seed, uint pixel, uint sample, uint bounce, uint group,
+                          uint replicates) {
+    Rng4 h = wp_pcg4d(pixel, bounce * (uint)WP_RNG_GROUPS + group, seed, 0x50b01u);
+    uint scramble = h.x;
+    uint index = sample;
+    if (replicates > 1u) {
+        scramble = wp_replicate_scramble(h.x, sample & (replicates - 1u));
+        index = sample / replicates;
+    }
+    return wp_sobol_owen4(index, scramble);
+}
+
 // Four uniform numbers in [0, 1) for (seed, pixel, sample, bounce, group).
 // With WP_SAMPLER_SOBOL: the sample-th Owen-scrambled Sobol point, its scramble seed
 // hashed from (pixel, bounce, group, seed), so every pixel and dimension group gets an
-// independent scramble of the same low-discrepancy sequence.
+// independent scramble of the same low-discrepancy sequence (with replicates: above).
 WP_FN float4 wp_rng4(uint seed, uint pixel, uint sample, uint bounce, uint group) {
 #if WP_SAMPLER == WP_SAMPLER_SOBOL
-    Rng4 h = wp_pcg4d(pixel, bounce * (uint)WP_RNG_GROUPS + group, seed, 0x50b01u);
-    uint4 q = wp_sobol_owen4(sample, h.x);
+    uint4 q = wp_sobol_rng4(seed, pixel, sample, bounce, group, (uint)WP_SOBOL_REPLICATES);
     Rng4 r;
     r.x = q.x;
     r.y = q.y;

@@ -143,9 +143,6 @@ int run_render(const RenderArgs& a) {
     parse_debug_nan(a.debug_nan);  // checked before any work
     const render::AovSet aov_set = a.aov.empty() ? render::AovSet{} : render::parse_aov_list(a.aov);
     if (a.aov_png && !aov_set.any()) usage_fail("--aov-png needs --aov (which AOVs to preview)");
-    if (a.config.adaptive && (aov_set.any() || a.denoise))
-        usage_fail("--adaptive cannot be combined with --aov or --denoise yet (the feature buffers "
-                   "are averaged over whole passes); --target-error alone can");
     check_scene_edits(a.edits);
 
     // 2. Outputs: checked before any work, so a bad path fails in milliseconds.
@@ -239,6 +236,10 @@ int run_render(const RenderArgs& a) {
     // --target-error: the per-pixel error estimates (render/adaptive.h); with --adaptive and
     // no --adaptive-threshold, pixels stop at the target itself.
     s.error_estimate = target;
+    // --replicates 0 (auto): RQMC replicates for the estimate of Sobol points (s^2/n
+    // overstates their error), none otherwise.
+    if (a.config.replicates == 0)
+        s.replicates = target && s.estimator.sobol ? limits::kDefaultReplicates : 1;
     if (target && s.adaptive.enabled && !a.config.adaptive_threshold_given)
         s.adaptive.threshold = a.target_error;
     // A reference of the wrong size is an error before any rendering.
@@ -327,6 +328,9 @@ int run_render(const RenderArgs& a) {
     }
     if (res.estimated_error >= 0.0)
         attrs.push_back({"wavepath:estimated_relmse", fmt::format("{:.6e}", res.estimated_error), false});
+    // RQMC replicates (the estimate's kind; with Sobol points also the sampler's layout).
+    if (res.estimated_error >= 0.0 || s.replicates > 1)
+        attrs.push_back({"wavepath:replicates", std::to_string(s.replicates), true});
     Image img, variance;
     render::AovImages aov;
     {
@@ -410,8 +414,9 @@ int run_render(const RenderArgs& a) {
         fmt::print("{}: {}x{}, {}, depth {}, {:.2f} s{}; wrote {}\n", scene.name, s.width,
                    s.height, spp_text, s.depth, res.render_s, why, names);
         if (res.estimated_error >= 0.0)
-            fmt::print("estimated relMSE {:.3e} (from the image's own variance, eps 1e-2){}\n",
+            fmt::print("estimated relMSE {:.3e} (from the image's own variance{}, eps 1e-2){}\n",
                        res.estimated_error,
+                       s.replicates > 1 ? fmt::format(": {} RQMC replicates", s.replicates) : std::string(),
                        target ? fmt::format("; target {:g} {}", a.target_error,
                                             res.estimated_error <= a.target_error ? "reached" : "not reached")
                               : std::string());
@@ -461,6 +466,7 @@ int run_render(const RenderArgs& a) {
                          {"glossy", render::glossy_name(s.estimator.glossy)},
                          {"rr_depth", s.estimator.rr_depth},
                          {"sampler", s.estimator.sobol ? "sobol" : "random"},
+                         {"replicates", s.replicates},
                          {"pool_paths", wf.pool_capacity()},
                          {"pool_bytes", wf.pool_bytes()},
                          {"film_bytes", wf.film_bytes()},
@@ -533,9 +539,11 @@ Subcommand add_render(CLI::App& app) {
         ->capture_default_str();
     c->add_option("--target-error", args->target_error,
                   "Render until the image's estimated relMSE falls to this (e.g. 1e-3): the mean "
-                  "over pixels of (1/3) sum over channels of (s^2/n) / (mean^2 + 0.01), from the "
-                  "image's own per-pixel variance (no reference), estimated at --min-spp and "
-                  "then every max(4, spp/4) passes and shown in the progress line. --time and "
+                  "over pixels of (1/3) sum over channels of v / (mean^2 + 0.01), v the variance "
+                  "of the pixel's mean from the image itself (no reference): with Sobol points "
+                  "from --replicates (4 by default), else s^2/n; estimated at --min-spp and "
+                  "then every max(4, spp/4) passes (multiples of --replicates) and shown in the "
+                  "progress line. --time and "
                   "--spp stay limits (whichever comes first; the summary says which stopped "
                   "it); without --spp only they limit it (not the scene file's spp). With "
                   "--adaptive, pixels stop at this error unless --adaptive-threshold is given. "

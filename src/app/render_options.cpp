@@ -99,6 +99,18 @@ void add_config_options(CLI::App* c, ConfigArgs& a) {
                               limits::kMinMinSpp))
         ->capture_default_str()
         ->group("Adaptive sampling");
+    c->add_option("--replicates", a.replicates,
+                  fmt::format("RQMC replicates K, a power of two in 1..{}: sample s of a pixel is "
+                              "point s/K of replicate s mod K, each replicate an independently "
+                              "scrambled Sobol sequence, and --target-error estimates each pixel's "
+                              "variance from the spread of its K replicate means (s^2/n overstates "
+                              "the error of Sobol points; --adaptive's per-pixel stopping keeps "
+                              "s^2/n). Estimates and --adaptive checks then fall on multiples of K samples. Costs part of "
+                              "Sobol's advantage at equal samples (docs/adaptive.md). 0 = auto: {} "
+                              "with --target-error and --sampler sobol, else 1 (none)",
+                              limits::kMaxReplicates, limits::kDefaultReplicates))
+        ->capture_default_str()
+        ->group("Adaptive sampling");
 }
 
 render::RenderSettings make_settings(const ConfigArgs& a, const Scene& scene) {
@@ -157,6 +169,11 @@ render::RenderSettings make_settings(const ConfigArgs& a, const Scene& scene) {
     s.adaptive.enabled = a.adaptive;
     s.adaptive.threshold = a.adaptive_threshold;
     s.adaptive.min_spp = a.min_spp;
+    if (a.replicates < 0 || a.replicates > limits::kMaxReplicates ||
+        (a.replicates & (a.replicates - 1)) != 0)
+        usage_fail("--replicates must be 0 (auto) or a power of two in 1..{} (got {})",
+                   limits::kMaxReplicates, a.replicates);
+    s.replicates = a.replicates == 0 ? 1 : static_cast<int>(a.replicates);
     return s;
 }
 

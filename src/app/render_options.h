@@ -36,10 +36,14 @@ struct ConfigArgs {
     double adaptive_threshold = limits::kDefaultAdaptiveThreshold;
     int min_spp = limits::kDefaultMinSpp;
     bool adaptive_threshold_given = false;
+    // --replicates: RQMC replicates, a power of two in 1..limits::kMaxReplicates; 0 = auto
+    // (make_settings gives 1; render gives kDefaultReplicates with --target-error and Sobol).
+    long long replicates = 0;
 };
 
 // Registers --depth, --size, --device, --traversal, --sampling, --glossy, --sampler,
-// --rr-depth, --pool, --kernels, --adaptive, --adaptive-threshold and --min-spp on `c`.
+// --rr-depth, --pool, --kernels, --adaptive, --adaptive-threshold, --min-spp and
+// --replicates on `c`.
 void add_config_options(CLI::App* c, ConfigArgs& a);
 
 // Validates the options and fills the settings (size from the scene when not given).

@@ -27,6 +27,12 @@
 // estimate (the usual caveat of sequential stopping; the min spp bounds it, and the z-tests
 // of tests/test_adaptive.cpp find no bias at their level).
 //
+// RQMC replicates (RenderSettings::replicates = K > 1; kernels/shared/adaptive.h): the
+// image's estimate is the mean of the pixels' replicate estimates instead (the variance of
+// a pixel's mean from the spread of its K replicate means), which holds for Sobol points
+// where s² / n overstates it; the per-pixel stopping rule of adaptive sampling keeps s² / n
+// (with K - 1 degrees of freedom a pixel's replicate estimate is too noisy to stop on).
+//
 // Host side: the list is sorted by pixel id (the host compacts it), so the list entries of a
 // film segment are one range.
 #pragma once
@@ -50,22 +56,35 @@ class AdaptiveStage {
     ::cl::Event enqueue(const ocl::Array<int>& active, int first, int count,
                         const FilmSegment& segment, int samples, float eps,
                         const ocl::Array<float>& error);
+    // adaptive_error_replicates: the same, and image_error[first + k] from the segment's
+    // `replicates` replicate sums.
+    ::cl::Event enqueue_replicates(const ocl::Array<int>& active, int first, int count,
+                                   const FilmSegment& segment, int replicates, int samples,
+                                   float eps, const ocl::Array<float>& error,
+                                   const ocl::Array<float>& image_error);
     const ocl::Program& program() const { return program_; }
 
   private:
     ocl::LaunchTarget target_;
     ocl::Program program_;
     ocl::Kernel kernel_;
+    ocl::Kernel replicates_;
 };
 
 // The active-pixel list, on the host and the device, and the per-pixel error estimates.
 class ActivePixels {
   public:
     static constexpr std::size_t kBytesPerPixel = sizeof(int) + sizeof(float);  // list, error
+    // With K > 1 replicates also the replicate estimate (a float per pixel).
+    static std::size_t bytes_per_pixel(int replicates) {
+        return kBytesPerPixel + (replicates > 1 ? sizeof(float) : 0);
+    }
 
     ActivePixels() = default;
-    // Every pixel active; the list and the error buffer on the device (film memory group).
-    ActivePixels(const ocl::Device& dev, int width, int height, ocl::Profiler* profiler);
+    // Every pixel active; the list and the error buffer on the device (film memory group);
+    // with replicates > 1 also the buffer of the replicate estimates.
+    ActivePixels(const ocl::Device& dev, int width, int height, ocl::Profiler* profiler,
+                 int replicates = 1);
 
     std::size_t count() const { return list_.size(); }
     const std::vector<int>& list() const { return list_; }
@@ -83,9 +102,13 @@ class ActivePixels {
     // keep `passes` samples) and uploads the shorter list. Call after refresh(). Returns the
     // pixels dropped.
     std::size_t drop_converged(const ocl::Device& dev, double threshold, int passes);
-    // Mean of the per-pixel errors: the image's estimated relMSE (after refresh()).
+    // Mean of the per-pixel errors: the image's estimated relMSE (after refresh()); with
+    // replicates, of the replicate estimates.
     double mean_error() const;
+    // The per-pixel estimates adaptive stopping reads (s² / n).
     const std::vector<float>& errors() const { return error_; }
+    // The per-pixel estimates the image's estimate averages (the replicates' with K > 1).
+    const std::vector<float>& image_errors() const { return replicates_ > 1 ? image_error_ : error_; }
     const ocl::Program& program() const { return stage_.program(); }
     // Every pixel active again (Wavefront::reset).
     void reset(const ocl::Device& dev);
@@ -93,11 +116,14 @@ class ActivePixels {
   private:
     AdaptiveStage stage_;
     int width_ = 0, height_ = 0;
+    int replicates_ = 1;
     std::vector<int> list_;        // active pixel ids, ascending
     std::vector<int> stopped_at_;  // per pixel: samples when it stopped; 0 = active
     std::vector<float> error_;     // per pixel: the latest estimate
     ocl::Array<int> device_list_;  // the list (first count() entries valid)
     ocl::Array<float> device_error_;  // per list entry
+    std::vector<float> image_error_;        // per pixel, replicates > 1: the replicate estimate
+    ocl::Array<float> device_image_error_;  // per list entry, replicates > 1
 };
 
 }  // namespace wp::render

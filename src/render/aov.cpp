@@ -67,7 +67,8 @@ AovStage::AovStage(const ocl::Device& dev, const KernelConfig& config, ocl::Prof
     : target_{&dev.queue, profiler},
       program_(ocl::Program::build(dev, "aov.cl", config.aov_options())),
       record_(program_, "aov_record", "aov.record"),
-      accumulate_(program_, "aov_accumulate", "aov.accumulate"), specular_(config.any_specular()) {}
+      accumulate_(program_, "aov_accumulate", "aov.accumulate"),
+      accumulate_active_(program_, "aov_accumulate_active", "aov.accumulate"), specular_(config.any_specular()) {}
 
 ::cl::Event AovStage::record(std::size_t launch, const PathQueue& in, const ocl::Array<Hit>& hits,
                              const ShadingScene& scene, int bounce, const AovBuffers& aov) {
@@ -89,10 +90,24 @@ AovStage::AovStage(const ocl::Device& dev, const KernelConfig& config, ocl::Prof
                               cl_int(pixel_count), cl_int(segment.first), segment.sums);
 }
 
+::cl::Event AovStage::accumulate_active(const AovBuffers& aov, const ocl::Array<int>& active,
+                                        int first, int count, int active_count,
+                                        const AovSegment& segment) {
+    const auto items = static_cast<std::size_t>(std::min(count, active_count));
+    return accumulate_active_.launch(target_, items, aov.items, active, cl_int(first), cl_int(count),
+                                     cl_int(active_count), cl_int(segment.first), segment.sums);
+}
+
 void resolve_aovs_into(const float4* sums, std::size_t count, std::size_t first, int samples,
                        AovImages& out) {
-    const double inv = samples > 0 ? 1.0 / samples : 0.0;
+    const std::vector<int> counts(count, samples);
+    resolve_aovs_into(sums, count, first, counts.data(), out);
+}
+
+void resolve_aovs_into(const float4* sums, std::size_t count, std::size_t first, const int* counts,
+                       AovImages& out) {
     for (std::size_t k = 0; k < count; ++k) {
+        const double inv = counts[k] > 0 ? 1.0 / counts[k] : 0.0;
         const float4 a = sums[2 * k], b = sums[2 * k + 1];
         const std::size_t i = first + k;
         const float av[3] = {a.x, a.y, a.z}, nv[3] = {b.x, b.y, b.z};

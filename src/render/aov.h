@@ -81,18 +81,25 @@ class AovStage {
     // aov_accumulate: the wave's samples [0, count) from pixel first_pixel into the segment.
     ::cl::Event accumulate(const AovBuffers& aov, int first_pixel, int count, int pixel_count,
                            const AovSegment& segment);
+    // aov_accumulate_active (adaptive sampling): the same for a wave over the active list
+    // (list entries first.., active_count listed pixels); the wave's pixels lie in `segment`.
+    ::cl::Event accumulate_active(const AovBuffers& aov, const ocl::Array<int>& active, int first,
+                                  int count, int active_count, const AovSegment& segment);
     const ocl::Program& program() const { return program_; }
 
   private:
     ocl::LaunchTarget target_;
     ocl::Program program_;
-    ocl::Kernel record_, accumulate_;
+    ocl::Kernel record_, accumulate_, accumulate_active_;
     bool specular_ = false;
 };
 
 // Resolves `count` film pixels (2 float4 each) starting at pixel `first` of `out` (sized
 // already) from `samples` samples per pixel.
 void resolve_aovs_into(const float4* sums, std::size_t count, std::size_t first, int samples,
+                       AovImages& out);
+// The same with a sample count per pixel (adaptive sampling): counts[k] for pixel first + k.
+void resolve_aovs_into(const float4* sums, std::size_t count, std::size_t first, const int* counts,
                        AovImages& out);
 
 // The AOV images prepared for viewing (PNG previews; render --aov-png), as linear values

@@ -34,25 +34,30 @@ PathPool::PathPool(const ocl::Device& dev, std::size_t capacity, bool nee) : cap
 }
 
 FilmBuffers::FilmBuffers(const ocl::Device& dev, std::size_t pixels, bool with_variance,
-                         std::size_t segment_pixels)
-    : variance(with_variance) {
+                         std::size_t segment_pixels, int replicates_)
+    : variance(with_variance), replicates(std::max(replicates_, 1)) {
     ocl::MemoryGroup group(dev, kMemoryFilm);
     // The whole film first, so that a film too large is named as such.
     if (dev.memory)
-        dev.memory->check_room(pixels * bytes_per_pixel(variance),
+        dev.memory->check_room(pixels * bytes_per_pixel(variance, replicates),
                                fmt::format("the film ({} pixels)", pixels));
-    std::size_t seg = segment_pixels > 0 ? segment_pixels : dev.info.max_alloc / sizeof(FilmPixel);
+    // The largest buffer of a segment: its replicate sums with K > 1, else its sum.
+    const std::size_t widest = sizeof(FilmPixel) * static_cast<std::size_t>(replicates > 1 ? replicates : 1);
+    std::size_t seg = segment_pixels > 0 ? segment_pixels : dev.info.max_alloc / widest;
     seg = std::max<std::size_t>(seg, 1);
     // Each segment must fit one buffer. (The whole film is held to the ledger's capacity,
     // which for a CPU device sharing the host's memory is that memory, not the smaller
     // figure PoCL reports: a 16384^2 film of 8 GiB renders there; cl/memory.h.)
-    dev.check_alloc(std::min(seg, pixels) * sizeof(FilmPixel), "a film segment");
+    dev.check_alloc(std::min(seg, pixels) * widest, "a film segment");
     for (std::size_t first = 0; first < pixels; first += seg) {
         FilmSegment s;
         s.first = first;
         s.size = std::min(seg, pixels - first);
         s.sum = ocl::Array<FilmPixel>::allocate(dev, s.size, "the film");
         if (variance) s.sum_sq = ocl::Array<FilmPixel>::allocate(dev, s.size, "the film's sum of squares");
+        if (replicates > 1)
+            s.replicate_sum = ocl::Array<FilmPixel>::allocate(
+                dev, s.size * static_cast<std::size_t>(replicates), "the film's replicate sums");
         segments.push_back(std::move(s));
     }
     counters = ocl::Array<int>::allocate(dev, WP_COUNTER_COUNT, "the counters");
@@ -69,6 +74,7 @@ void FilmBuffers::clear(const ocl::Device& dev) const {
     for (const auto& s : segments) {
         s.sum.fill_zero(dev);
         if (variance) s.sum_sq.fill_zero(dev);
+        if (replicates > 1) s.replicate_sum.fill_zero(dev);
     }
     counters.fill_zero(dev);
     ray_total.fill_zero(dev);
@@ -76,8 +82,8 @@ void FilmBuffers::clear(const ocl::Device& dev) const {
 }
 
 std::size_t pool_capacity(const ocl::Device& dev, std::size_t pixels, std::size_t requested, bool nee,
-                          std::size_t reserve) {
-    const std::size_t per_path = PathPool::bytes_per_path(nee);
+                          std::size_t reserve, std::size_t extra_per_path) {
+    const std::size_t per_path = PathPool::bytes_per_path(nee) + extra_per_path;
     const std::size_t widest = std::max(sizeof(Ray), sizeof(PathState));  // largest array element
     if (requested > 0) {
         dev.check_alloc(requested * widest, "a path pool array (--pool)");

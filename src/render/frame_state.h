@@ -11,7 +11,8 @@
 // (ping-pong between bounces, 2 x (32 + 32)), the hit of each ray (16), the sample's
 // radiance (16) and, with next-event estimation, one shadow ray with its item and
 // contribution (32 + 4 + 16): 212 bytes with NEE, 160 without. Bytes per film pixel: 32
-// (the double-float sum), 64 with --variance (the sum of squares too).
+// (the double-float sum), 64 with --variance (the sum of squares too), and 32 more per RQMC
+// replicate with K > 1 replicates (one double-float sum per replicate; docs/adaptive.md).
 #pragma once
 
 #include <cstddef>
@@ -79,6 +80,9 @@ struct FilmSegment {
     std::size_t first = 0, size = 0;
     ocl::Array<FilmPixel> sum;
     ocl::Array<FilmPixel> sum_sq;  // allocated only with variance
+    // RQMC replicates (K > 1 only, else empty): size * K sums, pixel f's replicate r at
+    // [f * K + r], the samples s with s mod K == r (kernels/accumulate.cl).
+    ocl::Array<FilmPixel> replicate_sum;
 };
 
 // The film: running sums per pixel (and of squares with variance), the NaN/Inf counters
@@ -91,13 +95,15 @@ struct FilmBuffers {
     ocl::Array<cl_ulong> ray_total;         // one element: closest-hit rays (queue_reset)
     ocl::Array<cl_ulong> shadow_ray_total;  // one element: shadow rays (shadow_trace)
     bool variance = false;
+    int replicates = 1;  // RQMC replicates K (a power of two); > 1: replicate_sum per segment
 
     FilmBuffers() = default;
-    // segment_pixels: pixels per segment; 0 = the most one buffer of the device holds.
+    // segment_pixels: pixels per segment; 0 = the most one buffer of the device holds (the
+    // replicate sums, K times larger, included).
     FilmBuffers(const ocl::Device& dev, std::size_t pixels, bool variance,
-                std::size_t segment_pixels = 0);
-    static std::size_t bytes_per_pixel(bool variance) {
-        return sizeof(FilmPixel) * (variance ? 2 : 1);
+                std::size_t segment_pixels = 0, int replicates = 1);
+    static std::size_t bytes_per_pixel(bool variance, int replicates = 1) {
+        return sizeof(FilmPixel) * ((variance ? 2 : 1) + (replicates > 1 ? replicates : 0));
     }
     // The segment that holds pixel p.
     const FilmSegment& segment_of(std::size_t p) const;
@@ -108,9 +114,11 @@ struct FilmBuffers {
 // The pool capacity for a render of `pixels` pixels: `requested` when > 0, else the smallest
 // of kDefaultCapacity, 16 passes of the image, what the device's memory share holds and what
 // its free memory holds after keeping `reserve` bytes back (the film, allocated after the
-// pool); at least one work-group. Throws wp::Error when a requested pool does not fit.
+// pool); at least one work-group. `extra_per_path`: bytes per path of other arrays sized by
+// the pool (the AOV items, AovBuffers::kBytesPerPath), counted with the pool's own. Throws
+// wp::Error when a requested pool does not fit.
 std::size_t pool_capacity(const ocl::Device& dev, std::size_t pixels, std::size_t requested, bool nee,
-                          std::size_t reserve = 0);
+                          std::size_t reserve = 0, std::size_t extra_per_path = 0);
 
 }  // namespace wp::render
 

@@ -89,10 +89,15 @@ std::string KernelConfig::inject_options() const {
     return fmt::format(" -D WP_INJECT_NAN={} -D WP_INJECT_PERIOD={}", inject_nan, inject_period);
 }
 
+std::string KernelConfig::replicate_options() const {
+    if (!estimator.sobol || replicates <= 1) return "";
+    return fmt::format(" -D WP_SOBOL_REPLICATES={}", replicates);
+}
+
 std::string KernelConfig::generate_options() const {
     // The lens switch only when on: a pinhole camera keeps its program and cache key.
-    return fmt::format("-D WP_SAMPLER={}{}{}", int(estimator.sobol),
-                       lens ? " -D WP_HAVE_LENS=1" : "", inject_options());
+    return fmt::format("-D WP_SAMPLER={}{}{}{}", int(estimator.sobol),
+                       lens ? " -D WP_HAVE_LENS=1" : "", replicate_options(), inject_options());
 }
 
 std::string KernelConfig::shade_options() const {
@@ -113,7 +118,7 @@ std::string KernelConfig::shade_options() const {
     if (normal_maps) o += " -D WP_HAVE_NORMAL_MAPS=1";
     if (env) o += " -D WP_HAVE_ENV=1";
     if (anisotropic) o += " -D WP_HAVE_ANISOTROPY=1";
-    return o + inject_options();
+    return o + replicate_options() + inject_options();
 }
 
 std::string KernelConfig::trace_options() const {

@@ -77,6 +77,9 @@ struct KernelConfig {
     bool lens = false;         // the camera has a thin lens (WP_HAVE_LENS; generate only)
     bool anisotropic = false;  // some rough material has α_v != α (WP_HAVE_ANISOTROPY; uvs too)
     Estimator estimator;
+    // RQMC replicates of the Sobol sampler (RenderSettings::replicates, kernels/shared/rng.h):
+    // -D WP_SOBOL_REPLICATES=K in generate and shade only when K > 1 and the sampler is Sobol.
+    int replicates = 1;
     // Debug (render --debug-nan): WP_INJECT_* stage bits (kernels/shared/types.h) whose
     // guards get a NaN for every pixel p with p % inject_period == 0; 0 compiles nothing.
     int inject_nan = 0;
@@ -113,6 +116,7 @@ struct KernelConfig {
 
   private:
     std::string inject_options() const;
+    std::string replicate_options() const;
 };
 
 }  // namespace wp::render

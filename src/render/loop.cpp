@@ -26,7 +26,8 @@ LoopResult render_frames(Wavefront& wf, const LoopOptions& options, Progress* pr
     const int start = wf.frames();
     const double kernel_ms_before = kernel_ms(wf.profiler());
     const bool target = options.target_error > 0.0;
-    int next_estimate = next_error_check(start + 1, options.min_spp);
+    const int replicates = wf.settings().replicates;  // estimates on multiples of it
+    int next_estimate = next_error_check(start + 1, options.min_spp, replicates);
     int estimated_at = -1;
     while (wf.frames() - start < options.spp) {
         if (wf.converged()) {
@@ -66,7 +67,7 @@ LoopResult render_frames(Wavefront& wf, const LoopOptions& options, Progress* pr
         if (target && wf.frames() >= next_estimate) {
             res.estimated_error = wf.estimate_error();
             estimated_at = wf.frames();
-            next_estimate = next_error_check(wf.frames() + 1, options.min_spp);
+            next_estimate = next_error_check(wf.frames() + 1, options.min_spp, replicates);
             if (options.on_estimate) options.on_estimate(res.estimated_error);
             if (res.estimated_error <= options.target_error) {
                 res.stopped_by_target = true;

@@ -27,17 +27,16 @@ void validate(const RenderSettings& s) {
     if (s.adaptive.min_spp < limits::kMinMinSpp || s.adaptive.min_spp > limits::kMaxSpp)
         fail("adaptive min spp {} is outside {} to {}", s.adaptive.min_spp, limits::kMinMinSpp,
              limits::kMaxSpp);
-    // The feature buffers are averaged over whole passes; adaptive waves run over the active
-    // pixels with per-pixel counts, which the AOV stage does not follow (yet).
-    if (s.aov && s.adaptive.enabled)
-        fail("feature buffers (--aov, --denoise) and adaptive sampling (--adaptive) cannot be "
-             "combined yet");
+    if (s.replicates < 1 || s.replicates > limits::kMaxReplicates || (s.replicates & (s.replicates - 1)) != 0)
+        fail("replicates {} must be a power of two in 1..{}", s.replicates, limits::kMaxReplicates);
 }
 
-int next_error_check(int passes, int min_spp) {
-    long long c = min_spp;
+int next_error_check(int passes, int min_spp, int replicates) {
+    const long long k = std::max(replicates, 1);
+    auto round_up = [k](long long v) { return (v + k - 1) / k * k; };
+    long long c = round_up(min_spp);
     while (c < passes)
-        c += std::max<long long>(limits::kAdaptiveMinInterval, c / limits::kAdaptiveIntervalDivisor);
+        c += round_up(std::max<long long>(limits::kAdaptiveMinInterval, c / limits::kAdaptiveIntervalDivisor));
     return static_cast<int>(std::min<long long>(c, std::numeric_limits<int>::max()));
 }
 
@@ -50,13 +49,14 @@ constexpr std::size_t kSmallBuffersBytes = std::size_t(64) << 10;
 // Adaptive sampling needs the error estimate, which needs the film's sum of squares.
 RenderSettings with_implied(RenderSettings s) {
     if (s.adaptive.enabled) s.error_estimate = true;
-    if (s.error_estimate) s.variance = true;
+    if (s.error_estimate || s.replicates > 1) s.variance = true;
     return s;
 }
 
 KernelConfig make_config(const Scene& scene, const RenderSettings& s) {
     KernelConfig c = KernelConfig::from_scene(scene, s.estimator);
     if (s.kernels == KernelSet::Generic) c = c.with_every_feature();
+    c.replicates = s.replicates;
     c.inject_nan = s.inject_nan;
     c.inject_period = s.inject_period;
     return c;
@@ -73,9 +73,11 @@ Wavefront::Wavefront(ocl::Device& dev, const Scene& scene, const RenderSettings&
     const auto pixels = static_cast<std::size_t>(pixel_count());
     // An automatic pool leaves room for the film and the few small buffers after it.
     const std::size_t reserve = film_bytes() + kSmallBuffersBytes;
-    pool_ = PathPool(dev, render::pool_capacity(dev, pixels, settings.pool, config_.nee(), reserve),
+    // The AOV items (2 float4 a path) are sized by the pool too.
+    const std::size_t aov_per_path = settings_.aov ? AovBuffers::kBytesPerPath : 0;
+    pool_ = PathPool(dev, render::pool_capacity(dev, pixels, settings.pool, config_.nee(), reserve, aov_per_path),
                      config_.nee());
-    film_ = FilmBuffers(dev, pixels, settings_.variance, settings.film_segment);
+    film_ = FilmBuffers(dev, pixels, settings_.variance, settings.film_segment, settings_.replicates);
     if (settings_.aov) aov_ = AovBuffers(dev, pool_.capacity(), film_);
     memory_.capacity = dev.memory ? dev.memory->capacity() : dev.info.global_mem;
     memory_.max_alloc = dev.info.max_alloc;
@@ -94,10 +96,12 @@ Wavefront::Wavefront(ocl::Device& dev, const Scene& scene, const RenderSettings&
     intersect_ = IntersectStage(dev, settings.traversal, config_, &profiler_);
     shade_ = ShadeStage(dev, config_, &profiler_);
     if (config_.nee()) shadow_ = ShadowStage(dev, config_, &profiler_);
-    accumulate_ = AccumulateStage(dev, config_, settings_.variance, &profiler_);
-    // The active list and the per-pixel errors (8 bytes a pixel) join the film's group.
+    accumulate_ = AccumulateStage(dev, config_, settings_.variance, &profiler_, settings_.replicates);
+    // The active list and the per-pixel errors (8 bytes a pixel, 12 with replicates) join
+    // the film's group.
     if (settings_.error_estimate)
-        active_ = std::make_unique<ActivePixels>(dev, settings_.width, settings_.height, &profiler_);
+        active_ = std::make_unique<ActivePixels>(dev, settings_.width, settings_.height, &profiler_,
+                                                 settings_.replicates);
     if (settings_.aov) aov_stage_ = AovStage(dev, config_, &profiler_);
     scene_.stats.program_ms = prog_timer.ms();
     // Every device buffer this renderer made (the memory report).
@@ -122,8 +126,8 @@ std::vector<StartupProgram> Wavefront::program_builds() const {
 
 std::size_t Wavefront::film_bytes() const {
     return static_cast<std::size_t>(pixel_count()) *
-           (FilmBuffers::bytes_per_pixel(settings_.variance) +
-            (settings_.error_estimate ? ActivePixels::kBytesPerPixel : 0) +
+           (FilmBuffers::bytes_per_pixel(settings_.variance, settings_.replicates) +
+            (settings_.error_estimate ? ActivePixels::bytes_per_pixel(settings_.replicates) : 0) +
             (settings_.aov ? AovBuffers::kBytesPerPixel : 0));
 }
 
@@ -223,7 +227,8 @@ const std::vector<float>& Wavefront::pixel_errors() const {
 }
 
 void Wavefront::check_active(int passes) {
-    if (passes == checked_at_ || next_error_check(passes, settings_.adaptive.min_spp) != passes)
+    if (passes == checked_at_ ||
+        next_error_check(passes, settings_.adaptive.min_spp, settings_.replicates) != passes)
         return;
     // The check reads the film, so it waits for the waves before it; that wait is not its
     // cost (the device is busy with them), so the clock starts after it.
@@ -244,7 +249,7 @@ void Wavefront::render_active(int passes, const std::function<void(double)>& on_
         const auto active = active_->count();
         if (done >= passes || active == 0) break;
         // Waves never run past the next check.
-        const int until = next_error_check(now + 1, settings_.adaptive.min_spp) - now;
+        const int until = next_error_check(now + 1, settings_.adaptive.min_spp, settings_.replicates) - now;
         const auto sample = static_cast<std::uint32_t>(now);
         const int a = static_cast<int>(active);
         const int per_wave = passes_per_wave();
@@ -320,11 +325,15 @@ void Wavefront::run_wave(int first_pixel, std::uint32_t first_sample, int count,
     if (active_count > 0) {
         const auto p = static_cast<std::size_t>(active_->list()[static_cast<std::size_t>(first_pixel)]);
         accumulate_.enqueue_active(pool_.radiance, active_->device_list(), first_pixel, count,
-                                   active_count, film_.segment_of(p), film_.counters);
+                                   active_count, film_.segment_of(p), film_.counters, first_sample);
+        // The feature buffers over the same list (the AOV segments are the film's).
+        if (settings_.aov)
+            aov_stage_.accumulate_active(aov_, active_->device_list(), first_pixel, count,
+                                         active_count, aov_.segment_of(p));
     } else {
         accumulate_.enqueue(pool_.radiance, first_pixel, count, n,
-                            film_.segment_of(static_cast<std::size_t>(first_pixel)), film_.counters);
-        // AOVs follow the plain wave layout only (adaptive sampling refuses them: constructor)
+                            film_.segment_of(static_cast<std::size_t>(first_pixel)), film_.counters,
+                            first_sample);
         if (settings_.aov)
             aov_stage_.accumulate(aov_, first_pixel, count, n,
                                   aov_.segment_of(static_cast<std::size_t>(first_pixel)));
@@ -345,6 +354,16 @@ std::vector<FilmPixel> Wavefront::film_squares() {
     std::vector<FilmPixel> f;
     for (const auto& seg : film_.segments) {
         auto v = seg.sum_sq.read(dev_);
+        f.insert(f.end(), v.begin(), v.end());
+    }
+    return f;
+}
+
+std::vector<FilmPixel> Wavefront::film_replicates() {
+    if (settings_.replicates <= 1) fail("the film keeps no replicate sums (render settings without replicates)");
+    std::vector<FilmPixel> f;
+    for (const auto& seg : film_.segments) {
+        auto v = seg.replicate_sum.read(dev_);
         f.insert(f.end(), v.begin(), v.end());
     }
     return f;
@@ -377,11 +396,15 @@ AovImages Wavefront::aovs() {
     if (!settings_.aov) fail("the render keeps no AOVs (render settings without aov)");
     const int w = settings_.width, h = settings_.height;
     AovImages a{Image(w, h), Image(w, h), std::vector<float>(static_cast<std::size_t>(w) * h)};
+    const std::vector<int> counts = adaptive() ? sample_counts() : std::vector<int>{};
     for (const auto& seg : aov_.segments)
         for (std::size_t k = 0; k < seg.size; k += kResolveChunk) {
             std::size_t c = std::min(kResolveChunk, seg.size - k);
             auto s = seg.sums.read(dev_, 2 * k, 2 * c);
-            resolve_aovs_into(s.data(), c, seg.first + k, passes_, a);
+            if (adaptive())
+                resolve_aovs_into(s.data(), c, seg.first + k, counts.data() + seg.first + k, a);
+            else
+                resolve_aovs_into(s.data(), c, seg.first + k, passes_, a);
         }
     return a;
 }

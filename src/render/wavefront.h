@@ -89,12 +89,19 @@ struct RenderSettings {
     AdaptiveSettings adaptive;
     // Keep the per-pixel error estimates (estimate_error(); --target-error); implies variance.
     bool error_estimate = false;
+    // RQMC replicates K (render --replicates; a power of two, 1..limits::kMaxReplicates):
+    // sample s of a pixel is point s / K of replicate s mod K's own scramble (Sobol sampler,
+    // kernels/shared/rng.h), the film keeps a sum per replicate (FilmSegment::replicate_sum)
+    // and the image's error estimate comes from the replicate means (render/adaptive.h).
+    // K > 1 implies variance. 1: none (nothing allocated or launched for them).
+    int replicates = 1;
 };
 
 // The passes at which adaptive sampling checks its list (and --target-error its estimate):
 // min_spp, then every max(kAdaptiveMinInterval, c / kAdaptiveIntervalDivisor) passes after
-// the check c. Returns the first such pass >= passes.
-int next_error_check(int passes, int min_spp);
+// the check c; with K > 1 replicates each of these rounded up to a multiple of K (so the
+// replicates have equal counts at every check). Returns the first such pass >= passes.
+int next_error_check(int passes, int min_spp, int replicates = 1);
 
 // Throws wp::Error naming the setting when a value is outside limits.h.
 void validate(const RenderSettings& s);
@@ -162,6 +169,9 @@ class Wavefront {
     // rays[1] shadow), so live numbers need no blocking read either.
     ::cl::Event enqueue_film_read(std::vector<FilmPixel>& dst, cl_ulong* rays = nullptr);
     std::vector<FilmPixel> film_squares();              // its sum of squares (with variance)
+    // The replicate sums (settings.replicates > 1, else throws): pixel p's replicate r at
+    // [p * K + r] (FilmSegment::replicate_sum).
+    std::vector<FilmPixel> film_replicates();
     // Mean, sample variance and variance of the mean (render/film.h); needs
     // settings.variance, else throws wp::Error.
     FilmMoments moments();

@@ -30,6 +30,13 @@ constexpr int kDefaultMinSpp = 16;
 // quarter of its samples); --target-error estimates the image's error on the same schedule.
 constexpr int kAdaptiveMinInterval = 4;
 constexpr int kAdaptiveIntervalDivisor = 4;
+// RQMC replicates (render --replicates, docs/adaptive.md): sample s of a pixel belongs to
+// replicate s mod K, each replicate an independently scrambled Sobol sequence, and the
+// variance of a pixel's mean is estimated from the spread of the K replicate means (for
+// --target-error). K is a power of two in 1..kMaxReplicates; auto (0) is kDefaultReplicates
+// with --target-error and the Sobol sampler, else 1 (1: the film and sampler of before).
+constexpr int kMaxReplicates = 64;
+constexpr int kDefaultReplicates = 4;
 
 // Bounces (scattering events) per path: 0 shows emitters and background only. The path
 // pool ends a wave when its queue is empty, so a deep cap costs nothing once Russian
