@@ -202,8 +202,9 @@ DistributedResult render_distributed(const dist::Comm& comm, Wavefront& wf, cons
         return Wavefront::RayTotals{done_rays.closest + t.closest - loaded_rays.closest,
                                     done_rays.shadow + t.shadow - loaded_rays.shadow};
     };
-    // The films onto rank 0, which loads the total; the others start again from empty films.
-    auto reduce = [&] {
+    // The films onto rank 0, which loads the total; the others start again from empty films
+    // (not after the last reduction: they are done).
+    auto reduce = [&](bool last) {
         FilmState st;
         Timer io;
         protected_step(comm, [&] {
@@ -221,7 +222,7 @@ DistributedResult render_distributed(const dist::Comm& comm, Wavefront& wf, cons
             if (me == 0) {
                 wf.load_film_state(st);
                 loaded_rays = {st.rays, st.shadow_rays};
-            } else {
+            } else if (!last) {
                 wf.load_film_state(zero_like(st));
                 loaded_rays = {};
             }
@@ -273,7 +274,7 @@ DistributedResult render_distributed(const dist::Comm& comm, Wavefront& wf, cons
             if (progress->due()) progress->update(double(base), total_rays);
         }
         if (target && base >= next_estimate) {
-            reduce();
+            reduce(false);
             double estimate = 0.0;
             const auto verdict = protected_step(comm, [&] {
                 RankStatus st = r.ranks[std::size_t(me)];
@@ -303,7 +304,7 @@ DistributedResult render_distributed(const dist::Comm& comm, Wavefront& wf, cons
             break;
         }
     }
-    if (reduced_at != base) reduce();
+    if (reduced_at != base) reduce(true);
     if (me == 0 && target && estimated_at != base && base >= 2) {
         res.estimated_error = wf.estimate_error();
         if (o.on_estimate) o.on_estimate(res.estimated_error);
@@ -316,9 +317,9 @@ DistributedResult render_distributed(const dist::Comm& comm, Wavefront& wf, cons
     const auto t = wf.ray_totals();
     r.rays = t.closest;
     r.shadow_rays = t.shadow;
-    const auto own = own_rays();
-    r.own_rays = own.closest;
-    r.own_shadow_rays = own.shadow;
+    // The last reduction took this rank's rays into done_rays (its film is not reloaded).
+    r.own_rays = done_rays.closest;
+    r.own_shadow_rays = done_rays.shadow;
     return r;
 }
 
