@@ -6,6 +6,7 @@
 //                                             below; --time: the image is the one-process image
 //                                             of the spp it reached; --target-error: the same
 //                                             stop and image as one process
+//   mpi_test diff A.exr B.exr SPP            the comparison alone (A.var.exr, B.var.exr too)
 //   mpi_test faults WAVEPATH MPIEXEC DIR      a rank that fails: rank 0 names it and the cause
 //                                             once, exit non-zero, nothing written; a scene
 //                                             that does not load: one message; --adaptive:
@@ -247,6 +248,10 @@ int main(int argc, char** argv) {
         fs::remove_all(dir);
         fs::create_directories(dir);
         return faults_case(argv[2], argv[3], dir);
+    }
+    if (mode == "diff" && argc == 5) {  // for docs/distributed.md: A.exr B.exr SPP (with .var.exr)
+        expect_within_bound(argv[2], argv[3], std::atoi(argv[4]), true, "diff");
+        return failures ? 1 : 0;
     }
     std::fprintf(stderr, "usage: mpi_test render NP WAVEPATH MPIEXEC DIR | faults WAVEPATH MPIEXEC DIR\n");
     return 2;

@@ -11,6 +11,7 @@
 
 #include "dist/comm.h"
 #include "render/distributed.h"
+#include "util/timer.h"
 
 using namespace wp;
 
@@ -41,11 +42,19 @@ int main(int argc, char** argv) {
             return 1;
         }
     }
+    // The per-round status exchange: one 32-byte allgather per rank.
+    render::RankStatus mine;
+    std::vector<render::RankStatus> all(static_cast<std::size_t>(comm.size()));
+    comm.barrier();
+    Timer t;
+    const int rounds = 1000;
+    for (int i = 0; i < rounds; ++i) comm.allgather(&mine, sizeof mine, all.data());
+    const double status_us = t.ms() * 1e3 / rounds;
     std::sort(ms.begin(), ms.end());
     if (comm.rank() == 0)
         std::printf("ranks %d film %dx%d%s: %zu bytes sent per rank, reduce median %.2f ms, best %.2f ms "
-                    "(%.2f GB/s per link at the median)\n",
+                    "(%.2f GB/s per link at the median); status allgather %.1f us\n",
                     comm.size(), w, h, variance ? " +variance" : "", st.array_bytes(), ms[ms.size() / 2],
-                    ms.front(), double(st.array_bytes()) / (ms[ms.size() / 2] * 1e6));
+                    ms.front(), double(st.array_bytes()) / (ms[ms.size() / 2] * 1e6), status_us);
     return 0;
 }
