@@ -300,8 +300,7 @@ int run_render(RenderArgs a) {
         startup.device_wait_ms = step.ms();
         // Test aid for the distributed fault path (tests/test_distributed.cpp): this rank
         // fails its set-up as a device would.
-        if (const char* f = std::getenv("WP_TEST_FAIL_RANK");
-            f && distributed && std::atoi(f) == comm.rank())
+        if (distributed && render::test_fail_round(comm.rank()) == 0)
             fail("WP_TEST_FAIL_RANK: rank {} was told to fail its set-up", comm.rank());
         wf_holder = std::make_unique<render::Wavefront>(*dev_holder, scene, s);
     };

@@ -1,6 +1,7 @@
 #include "render/distributed.h"
 
 #include <algorithm>
+#include <cstdlib>
 #include <cstring>
 #include <limits>
 #include <new>
@@ -161,6 +162,15 @@ double reduce_film_state(const dist::Comm& comm, FilmState& state) {
     return t.ms();
 }
 
+int test_fail_round(int rank) {
+    const char* v = std::getenv("WP_TEST_FAIL_RANK");
+    if (!v || !*v) return -1;
+    const std::string s = v;
+    const auto at = s.find('@');
+    if (std::atoi(s.substr(0, at).c_str()) != rank) return -1;
+    return at == std::string::npos ? 0 : std::max(1, std::atoi(s.substr(at + 1).c_str()));
+}
+
 namespace {
 
 // A state of the same layout with every sum, count and total zero.
@@ -197,6 +207,7 @@ DistributedResult render_distributed(const dist::Comm& comm, Wavefront& wf, cons
     std::int64_t next_estimate = next_error_check(1, o.min_spp);
     std::int64_t estimated_at = -1;
     std::uint64_t total_rays = 0;
+    const int fail_round = test_fail_round(me);
     auto own_rays = [&] {
         const auto t = wf.ray_totals();
         return Wavefront::RayTotals{done_rays.closest + t.closest - loaded_rays.closest,
@@ -240,6 +251,8 @@ DistributedResult render_distributed(const dist::Comm& comm, Wavefront& wf, cons
         const PassRange pr = split_passes(base, static_cast<int>(T), N, me);
         const double round_start = timer.seconds();
         r.ranks = protected_step(comm, [&] {
+            if (fail_round > 0 && r.rounds + 1 == fail_round)
+                fail("WP_TEST_FAIL_RANK: rank {} was told to fail in round {}", me, fail_round);
             if (pr.count > 0)
                 wf.render_passes_from(pr.first, pr.count, [&](double part) {
                     if (progress && progress->due())

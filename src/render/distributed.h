@@ -98,6 +98,11 @@ std::vector<RankStatus> exchange_status(const dist::Comm& comm, RankStatus mine,
 // (std::bad_alloc is named as running out of host memory, an OpenCL error by its code).
 std::vector<RankStatus> protected_step(const dist::Comm& comm, const std::function<RankStatus()>& step);
 
+// Test aid for the fault path (tests/mpi/mpi_test.cpp): WP_TEST_FAIL_RANK=R makes rank R fail
+// its set-up, R@K its round K (1, 2, ...), as a device that fails would. Returns the round at
+// which `rank` is to fail (0: the set-up), -1 for none.
+int test_fail_round(int rank);
+
 // The cost of the reductions of one render.
 struct ReduceStats {
     int count = 0;

@@ -181,7 +181,7 @@ int render_case(int np, const std::string& wp, const std::string& mpi, const fs:
 
 int faults_case(const std::string& wp, const std::string& mpi, const fs::path& dir) {
     const std::string mpirun = "'" + mpi + "' --oversubscribe -np 2 ";
-    const std::string args = " render --size 32x24 --spp 4 --depth 2 -q";
+    const std::string args0 = " render --size 32x24 --depth 2 -q", args = args0 + " --spp 4";
     // A rank that fails its set-up (the test aid: as a device that does not open).
     {
         Run r = run(dir, mpirun + "-x WP_TEST_FAIL_RANK=1 '" + wp + "'" + args + " -o f1.exr");
@@ -189,6 +189,25 @@ int faults_case(const std::string& wp, const std::string& mpi, const fs::path& d
         check(count(r.err, "rank 1 of 2 failed") == 1 && count(r.err, "WP_TEST_FAIL_RANK") == 1,
               "rank 0 names rank 1 and its cause, once: " + r.err);
         check(!fs::exists(dir / "f1.exr"), "a failed rank: nothing written");
+    }
+    // A rank that fails in its third round, after the others have rendered two: still nothing
+    // written (rank 0 writes only after the last reduction).
+    {
+        Run r = run(dir, mpirun + "-x WP_TEST_FAIL_RANK=1@3 '" + wp + "'" + args0 + " -o f6.exr --spp 64");
+        check(r.code != 0, "a rank failing mid-render: exit non-zero (" + std::to_string(r.code) + ")");
+        check(count(r.err, "rank 1 of 2 failed") == 1 && count(r.err, "in round 3") == 1,
+              "rank 0 names rank 1 and its cause, once: " + r.err);
+        check(!fs::exists(dir / "f6.exr"), "a rank failing mid-render: nothing written");
+    }
+    // A rank killed outright: mpirun ends the job; rank 0 has written nothing.
+    {
+        Run r = run(dir, mpirun + "sh -c 'if [ \"$OMPI_COMM_WORLD_RANK\" = 1 ]; then (sleep 2; kill -9 $$) & "
+                                  "fi; exec \"$0\" \"$@\"' '" +
+                             wp + "'" + args0 + " --spp 1000000 --time 60 -o f7.exr");
+        check(r.code != 0, "a killed rank: exit non-zero (" + std::to_string(r.code) + ")");
+        check(count(r.err, "signal 9") >= 1 || count(r.err, "Killed") >= 1 || count(r.err, "killed") >= 1,
+              "a killed rank: mpirun says a process was killed: " + r.err);
+        check(!fs::exists(dir / "f7.exr"), "a killed rank: nothing written");
     }
     // A real failure on one rank only: its device too small for the film (out of memory).
     {
