@@ -5,6 +5,8 @@
 // pool) until --spp or
 // --time, writes the image(s) atomically (the samples so far on a first Ctrl-C) and, with
 // --stats, prints the per-stage kernel profile.
+#include <unistd.h>
+
 #include <cctype>
 #include <cmath>
 #include <cstdio>
@@ -313,6 +315,14 @@ int run_render(RenderArgs a) {
         setup();
     ocl::Device& dev = *dev_holder;
     render::Wavefront& wf = *wf_holder;
+    // Each rank's host and device, for the profile's per-rank split.
+    std::vector<std::string> rank_devices;
+    if (distributed) {
+        char host[64] = {};
+        gethostname(host, sizeof host - 1);
+        rank_devices = render::gather_text(
+            comm, fmt::format("{}|{}|{}: {}", host, comm.local_rank(), dev.info.index, dev.info.name));
+    }
     startup.scene_ms = wf.stats().upload_ms;
     startup.programs_ms = wf.stats().program_ms;
     startup.programs = wf.program_builds();
@@ -579,8 +589,16 @@ int run_render(RenderArgs a) {
         if (distributed) {
             nlohmann::json ranks = nlohmann::json::array();
             for (std::size_t r = 0; r < dres->ranks.size(); ++r)
+            {
+                // "host|local rank|index: device name"
+                const std::string& t = rank_devices[r];
+                const auto a = t.find('|'), b = t.find('|', a + 1);
                 ranks.push_back({{"rank", r}, {"passes", dres->ranks[r].passes},
-                                 {"seconds", dres->ranks[r].seconds}, {"rays", dres->ranks[r].rays}});
+                                 {"seconds", dres->ranks[r].seconds}, {"rays", dres->ranks[r].rays},
+                                 {"host", t.substr(0, a)},
+                                 {"local_rank", std::atoi(t.substr(a + 1, b - a - 1).c_str())},
+                                 {"device", t.substr(b + 1)}});
+            }
             j["distributed"] = {{"ranks", comm.size()}, {"rounds", dres->rounds},
                                 {"stages_from", "rank 0 (its own launches and rays)"},
                                 {"reductions", dres->reduce.count},

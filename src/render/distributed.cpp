@@ -91,6 +91,18 @@ std::vector<RankStatus> exchange_status(const dist::Comm& comm, RankStatus mine,
     throw RankFailure(what, code, comm.rank() != 0);
 }
 
+std::vector<std::string> gather_text(const dist::Comm& comm, const std::string& text) {
+    constexpr std::size_t kBytes = 128;
+    char mine[kBytes] = {};
+    std::strncpy(mine, text.c_str(), kBytes - 1);
+    std::vector<char> all(kBytes * std::size_t(comm.size()));
+    comm.allgather(mine, kBytes, all.data());
+    std::vector<std::string> out;
+    for (int r = 0; r < comm.size(); ++r)
+        out.emplace_back(all.data() + std::size_t(r) * kBytes, strnlen(all.data() + std::size_t(r) * kBytes, kBytes));
+    return out;
+}
+
 std::vector<RankStatus> protected_step(const dist::Comm& comm, const std::function<RankStatus()>& step) {
     RankStatus mine;
     std::string error;

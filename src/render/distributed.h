@@ -93,6 +93,10 @@ struct RankFailure : Error {
 std::vector<RankStatus> exchange_status(const dist::Comm& comm, RankStatus mine,
                                         const std::string& error);
 
+// Every rank's `text` (cut to 127 bytes), in rank order, on every rank (a collective): the
+// ranks' hosts and devices for the profile.
+std::vector<std::string> gather_text(const dist::Comm& comm, const std::string& text);
+
 // Runs `step` (which gives this rank's status) and reports its outcome through
 // exchange_status: a wp::UsageError asks for exit code 2, every other exception 1
 // (std::bad_alloc is named as running out of host memory, an OpenCL error by its code).

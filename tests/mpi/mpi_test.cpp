@@ -146,7 +146,8 @@ int render_case(int np, const std::string& wp, const std::string& mpi, const fs:
         if (j.is_object() && j.contains("distributed"))
             for (const auto& r : j["distributed"]["per_rank"]) {
                 passes += r["passes"].get<int>();
-                ranks += 1;
+                // One node: the local rank is the rank; every rank names its device.
+                if (r["local_rank"].get<int>() == ranks && !r["device"].get<std::string>().empty()) ranks += 1;
             }
         check(ranks == np && passes == 13, "the profile JSON's per-rank split: " + std::to_string(ranks) +
                                                " ranks, " + std::to_string(passes) + " passes");
