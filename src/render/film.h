@@ -57,7 +57,8 @@ FilmMoments resolve_moments(const std::vector<FilmPixel>& film,
 // Wavefront::film_arrays(), and saving, loading, sending and reducing follow.
 struct FilmArray {
     std::string name;            // "sum", "sum_sq", ...
-    std::vector<double> values;  // 3 per pixel (RGB), pixel order
+    std::vector<double> values;  // 3 (RGB) per film pixel, pixel order (K film pixels per
+                                 // image pixel for an array of K sums a pixel)
 };
 
 struct FilmState {

@@ -445,12 +445,13 @@ FilmState Wavefront::save_film_state() {
     const auto c = counters();
     std::copy(c.begin(), c.end(), st.counters.begin());
     for (const FilmArrayRef& ref : film_arrays()) {
-        FilmArray a{ref.name, std::vector<double>(3 * st.pixels())};
+        const std::size_t m = static_cast<std::size_t>(ref.per_pixel);
+        FilmArray a{ref.name, std::vector<double>(3 * m * st.pixels())};
         for (const auto& seg : film_.segments)
-            for (std::size_t k = 0; k < seg.size; k += kResolveChunk) {
-                const std::size_t n = std::min(kResolveChunk, seg.size - k);
+            for (std::size_t k = 0; k < seg.size * m; k += kResolveChunk) {
+                const std::size_t n = std::min(kResolveChunk, seg.size * m - k);
                 const auto px = (seg.*ref.member).read(dev_, k, n);
-                film_pixels_to_doubles(px.data(), n, a.values.data() + 3 * (seg.first + k));
+                film_pixels_to_doubles(px.data(), n, a.values.data() + 3 * (seg.first * m + k));
             }
         st.arrays.push_back(std::move(a));
     }
@@ -468,14 +469,15 @@ void Wavefront::load_film_state(const FilmState& st) {
     dev_.queue.finish();
     for (std::size_t i = 0; i < refs.size(); ++i) {
         const FilmArray& a = st.arrays[i];
-        if (a.name != refs[i].name || a.values.size() != 3 * st.pixels())
+        const std::size_t m = static_cast<std::size_t>(refs[i].per_pixel);
+        if (a.name != refs[i].name || a.values.size() != 3 * m * st.pixels())
             fail("load_film_state: array {} is '{}' with {} values, expected '{}' with {}", i, a.name,
-                 a.values.size(), refs[i].name, 3 * st.pixels());
+                 a.values.size(), refs[i].name, 3 * m * st.pixels());
         for (const auto& seg : film_.segments)
-            for (std::size_t k = 0; k < seg.size; k += kResolveChunk) {
-                const std::size_t n = std::min(kResolveChunk, seg.size - k);
+            for (std::size_t k = 0; k < seg.size * m; k += kResolveChunk) {
+                const std::size_t n = std::min(kResolveChunk, seg.size * m - k);
                 std::vector<FilmPixel> px(n);
-                doubles_to_film_pixels(a.values.data() + 3 * (seg.first + k), n, px.data());
+                doubles_to_film_pixels(a.values.data() + 3 * (seg.first * m + k), n, px.data());
                 dev_.queue.enqueueWriteBuffer((seg.*refs[i].member).buffer, CL_TRUE, k * sizeof(FilmPixel),
                                               n * sizeof(FilmPixel), px.data());
             }

@@ -151,12 +151,14 @@ class Wavefront {
     // Every device buffer this render allocated, by group (render/memory.h).
     const MemoryReport& memory() const { return memory_; }
 
-    // The film's per-pixel arrays as (name, member of FilmSegment): "sum", and "sum_sq"
-    // with variance. FilmState, its save, load and reduction follow this list, so one more
-    // film array is one more entry here.
+    // The film's per-pixel arrays as (name, member of FilmSegment, film pixels per image
+    // pixel): "sum", and "sum_sq" with variance. FilmState, its save, load and reduction
+    // follow this list, so one more film array is one more entry here (an array of K sums a
+    // pixel, pixel f's k-th at f * K + k, is {name, member, K}).
     struct FilmArrayRef {
         const char* name;
         ocl::Array<FilmPixel> FilmSegment::*member;
+        int per_pixel = 1;
     };
     std::vector<FilmArrayRef> film_arrays() const;
     // The whole film on the host (blocking; render/film.h): every film array, frames(),
