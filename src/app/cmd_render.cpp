@@ -249,9 +249,6 @@ int run_render(RenderArgs a) {
     // without them.
     render::Startup startup;  // the cold-start split (render/startup.h)
     ocl::defer_cache_stores(true);
-    // With several ranks each picks its device by its rank on the node unless --device says.
-    const std::string device_selector =
-        distributed && a.config.device.empty() ? device_for_rank(comm.local_rank()) : a.config.device;
     Scene scene;
     render::RenderSettings s;
     int spp = 0;
@@ -260,6 +257,9 @@ int run_render(RenderArgs a) {
     std::optional<ocl::Device> dev_holder;
     std::unique_ptr<render::Wavefront> wf_holder;
     auto setup = [&] {
+        // With several ranks each picks its device by its rank on the node unless --device says.
+        const std::string device_selector =
+            distributed && a.config.device.empty() ? device_for_rank(comm.local_rank()) : a.config.device;
         std::future<ocl::Device> opening = std::async(std::launch::async, [&] {
             HostSpan span("device");
             Timer t;
@@ -300,8 +300,8 @@ int run_render(RenderArgs a) {
         step.reset();
         dev_holder.emplace(opening.get());
         startup.device_wait_ms = step.ms();
-        // Test aid for the distributed fault path (tests/test_distributed.cpp): this rank
-        // fails its set-up as a device would.
+        // Test aid for the distributed fault path (tests/mpi/mpi_test.cpp): this rank fails
+        // its set-up as a device would.
         if (distributed && render::test_fail_round(comm.rank()) == 0)
             fail("WP_TEST_FAIL_RANK: rank {} was told to fail its set-up", comm.rank());
         wf_holder = std::make_unique<render::Wavefront>(*dev_holder, scene, s);
@@ -588,16 +588,15 @@ int run_render(RenderArgs a) {
         j["memory"] = render::memory_json(wf.memory());
         if (distributed) {
             nlohmann::json ranks = nlohmann::json::array();
-            for (std::size_t r = 0; r < dres->ranks.size(); ++r)
-            {
+            for (std::size_t r = 0; r < dres->ranks.size(); ++r) {
                 // "host|local rank|index: device name"
                 const std::string& t = rank_devices[r];
-                const auto a = t.find('|'), b = t.find('|', a + 1);
+                const auto bar1 = t.find('|'), bar2 = t.find('|', bar1 + 1);
                 ranks.push_back({{"rank", r}, {"passes", dres->ranks[r].passes},
                                  {"seconds", dres->ranks[r].seconds}, {"rays", dres->ranks[r].rays},
-                                 {"host", t.substr(0, a)},
-                                 {"local_rank", std::atoi(t.substr(a + 1, b - a - 1).c_str())},
-                                 {"device", t.substr(b + 1)}});
+                                 {"host", t.substr(0, bar1)},
+                                 {"local_rank", std::atoi(t.substr(bar1 + 1, bar2 - bar1 - 1).c_str())},
+                                 {"device", t.substr(bar2 + 1)}});
             }
             j["distributed"] = {{"ranks", comm.size()}, {"rounds", dres->rounds},
                                 {"stages_from", "rank 0 (its own launches and rays)"},
