@@ -237,7 +237,15 @@ DistributedResult render_distributed(const dist::Comm& comm, Wavefront& wf, cons
             return RankStatus{};
         });
         double io_ms = io.ms();
-        r.reduce.ms += reduce_film_state(comm, st);
+        // A transfer that fails leaves its partner waiting in the tree: no status exchange
+        // can follow, so the job ends here, from this rank, naming it.
+        try {
+            r.reduce.ms += reduce_film_state(comm, st);
+        } catch (const std::exception& e) {
+            fmt::print(stderr, "wavepath: error: rank {} of {}: the film reduction failed: {} (ending the job)\n",
+                       me, N, e.what());
+            comm.abort(1);
+        }
         r.reduce.count += 1;
         r.reduce.bytes = st.array_bytes() + sizeof(StateHeader);
         io.reset();
