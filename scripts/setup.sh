@@ -2,7 +2,8 @@
 # Installs wavepath's build and test dependencies from Debian packages, and what the plot
 # scripts in scripts/ import (python3-matplotlib, python3-numpy). The viewer (`wavepath
 # view`, docs/viewer.md): GLFW 3 and OpenGL to build it, Xvfb and Mesa's software OpenGL
-# (libgl1-mesa-dri) for its test.
+# (libgl1-mesa-dri) for its test. Distributed rendering (`mpirun -np N wavepath render`,
+# docs/distributed.md) and its tests: Open MPI (libopenmpi-dev, openmpi-bin).
 # Idempotent: installs only what is missing. Works as root or through sudo.
 set -euo pipefail
 
@@ -14,6 +15,7 @@ packages=(
   libassimp-dev libpugixml-dev libtinygltf-dev clang libclang-rt-14-dev
   python3-matplotlib python3-numpy
   libglfw3-dev libgl-dev xvfb xauth libgl1-mesa-dri
+  libopenmpi-dev openmpi-bin
 )
 
 missing=()

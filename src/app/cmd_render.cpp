@@ -5,6 +5,8 @@
 // pool) until --spp or
 // --time, writes the image(s) atomically (the samples so far on a first Ctrl-C) and, with
 // --stats, prints the per-stage kernel profile.
+#include <unistd.h>
+
 #include <cctype>
 #include <cmath>
 #include <cstdio>
@@ -23,10 +25,12 @@
 #include "app/subcommands.h"
 #include "cl/device.h"
 #include "cl/program.h"
+#include "dist/comm.h"
 #include "image/image.h"
 #include "image/stats.h"
 #include "render/aov.h"
 #include "render/denoise.h"
+#include "render/distributed.h"
 #include "render/loop.h"
 #include "render/profile.h"
 #include "render/progress.h"
@@ -121,7 +125,38 @@ int parse_debug_nan(const std::string& list) {
     return mask;
 }
 
-int run_render(const RenderArgs& a) {
+// The device of a rank when --device is not given: the local_rank-th GPU of this node
+// (modulo their number), else the local_rank-th device; "" when there is none (the
+// single-process default then says so).
+std::string device_for_rank(int local_rank) {
+    const auto devices = ocl::list_devices();
+    std::vector<int> gpus, all;
+    for (const auto& d : devices) {
+        all.push_back(d.index);
+        if (d.is_gpu) gpus.push_back(d.index);
+    }
+    const auto& pick = gpus.empty() ? all : gpus;
+    if (pick.empty()) return "";
+    return std::to_string(pick[std::size_t(local_rank) % pick.size()]);
+}
+
+int run_render(RenderArgs a) {
+    // 0. Distributed (mpirun -np N; render/distributed.h): rank 0 alone talks and writes.
+    dist::Comm& comm = dist::Comm::world();
+    const bool distributed = comm.size() > 1;
+    const bool root = comm.rank() == 0;
+    if (!dist::Comm::built_with_mpi() && dist::Comm::launched_by_mpi()) {
+        const char* n = std::getenv("OMPI_COMM_WORLD_SIZE");
+        if (n && std::atoi(n) > 1)
+            fail("this wavepath was built without MPI (WP_WITH_MPI off or MPI not found), so {} "
+                 "processes would each render and write the whole image; run one", n);
+    }
+    if (!root) {
+        a.quiet = true;
+        a.verbose = false;
+        a.stats = false;
+    }
+
     // 1. Options.
     if (a.spp < limits::kMinSpp || a.spp > limits::kMaxSpp)
         usage_fail("--spp must be in {}..{} (got {})", limits::kMinSpp, limits::kMaxSpp, a.spp);
@@ -144,6 +179,13 @@ int run_render(const RenderArgs& a) {
     const render::AovSet aov_set = a.aov.empty() ? render::AovSet{} : render::parse_aov_list(a.aov);
     if (a.aov_png && !aov_set.any()) usage_fail("--aov-png needs --aov (which AOVs to preview)");
     check_scene_edits(a.edits);
+    if (distributed && a.config.adaptive)
+        usage_fail("--adaptive cannot be used with several MPI ranks: each pixel's sample count "
+                   "would differ from rank to rank, and the ranks' films could not be added "
+                   "(--target-error alone can; docs/distributed.md)");
+    if (distributed && (aov_set.any() || a.denoise))
+        usage_fail("--aov and --denoise cannot be used with several MPI ranks yet (the feature "
+                   "buffers are not reduced; docs/distributed.md)");
 
     // 2. Outputs: checked before any work, so a bad path fails in milliseconds.
     std::vector<fs::path> outputs;
@@ -204,51 +246,84 @@ int run_render(const RenderArgs& a) {
     // without them.
     render::Startup startup;  // the cold-start split (render/startup.h)
     ocl::defer_cache_stores(true);
-    std::future<ocl::Device> opening = std::async(std::launch::async, [&] {
-        HostSpan span("device");
-        Timer t;
-        ocl::Device d = ocl::Device::open(a.config.device);
-        startup.device_ms = t.ms();
-        return d;
-    });
-    Timer step;
-    Scene scene = [&] {
-        HostSpan span("load");
-        return load_scene(a.scene, a.quiet, &a.edits);
-    }();
-    startup.load_ms = step.ms();
-    render::RenderSettings s = make_settings(a.config, scene);
-    // The scene file's spp and seed, unless given on the command line. With --target-error
-    // only --spp limits the samples (the scene file's spp does not).
+    Scene scene;
+    render::RenderSettings s;
+    int spp = 0;
     const bool target = a.target_error > 0.0;
-    const int spp = a.spp_given ? a.spp
-                    : target    ? limits::kMaxSpp
-                    : scene.render.spp ? *scene.render.spp
-                                       : a.spp;
-    s.seed = a.seed_given || !scene.render.seed ? static_cast<std::uint32_t>(a.seed)
-                                                 : *scene.render.seed;
-    s.inject_nan = parse_debug_nan(a.debug_nan);
-    s.inject_period = a.debug_nan_period;
-    if (spp < 1) fail("spp must be at least 1 (got {} from the scene file)", spp);
-    // The denoiser reads the film's variance and every AOV.
-    s.variance = a.variance || a.denoise;
-    s.aov = aov_set.any() || a.denoise;
-    // --target-error: the per-pixel error estimates (render/adaptive.h); with --adaptive and
-    // no --adaptive-threshold, pixels stop at the target itself.
-    s.error_estimate = target;
-    // --replicates 0 (auto): RQMC replicates for the estimate of Sobol points (s^2/n
-    // overstates their error), none otherwise.
-    if (a.config.replicates == 0)
-        s.replicates = target && s.estimator.sobol ? limits::kDefaultReplicates : 1;
-    if (target && s.adaptive.enabled && !a.config.adaptive_threshold_given)
-        s.adaptive.threshold = a.target_error;
-    // A reference of the wrong size is an error before any rendering.
     std::optional<render::Reference> ref;
-    if (!a.reference.empty()) ref = render::load_reference(a.reference, s.width, s.height);
-    step.reset();
-    ocl::Device dev = opening.get();
-    startup.device_wait_ms = step.ms();
-    render::Wavefront wf(dev, scene, s);
+    std::optional<ocl::Device> dev_holder;
+    std::unique_ptr<render::Wavefront> wf_holder;
+    auto setup = [&] {
+        // With several ranks each picks its device by its rank on the node unless --device says.
+        const std::string device_selector =
+            distributed && a.config.device.empty() ? device_for_rank(comm.local_rank()) : a.config.device;
+        std::future<ocl::Device> opening = std::async(std::launch::async, [&] {
+            HostSpan span("device");
+            Timer t;
+            ocl::Device d = ocl::Device::open(device_selector);
+            startup.device_ms = t.ms();
+            return d;
+        });
+        // (std::async's future waits in its destructor: the opening ends before a failure
+        // leaves this scope.)
+        Timer step;
+        scene = [&] {
+            HostSpan span("load");
+            return load_scene(a.scene, a.quiet, &a.edits);
+        }();
+        startup.load_ms = step.ms();
+        s = make_settings(a.config, scene);
+        // The scene file's spp and seed, unless given on the command line. With --target-error
+        // only --spp limits the samples (the scene file's spp does not).
+        spp = a.spp_given ? a.spp
+              : target    ? limits::kMaxSpp
+              : scene.render.spp ? *scene.render.spp
+                                 : a.spp;
+        s.seed = a.seed_given || !scene.render.seed ? static_cast<std::uint32_t>(a.seed)
+                                                     : *scene.render.seed;
+        s.inject_nan = parse_debug_nan(a.debug_nan);
+        s.inject_period = a.debug_nan_period;
+        if (spp < 1) fail("spp must be at least 1 (got {} from the scene file)", spp);
+        // The denoiser reads the film's variance and every AOV.
+        s.variance = a.variance || a.denoise;
+        s.aov = aov_set.any() || a.denoise;
+        // --target-error: the per-pixel error estimates (render/adaptive.h); with --adaptive and
+        // no --adaptive-threshold, pixels stop at the target itself.
+        s.error_estimate = target;
+        // --replicates 0 (auto): RQMC replicates for the estimate of Sobol points (s^2/n
+        // overstates their error), none otherwise.
+        if (a.config.replicates == 0)
+            s.replicates = target && s.estimator.sobol ? limits::kDefaultReplicates : 1;
+        if (target && s.adaptive.enabled && !a.config.adaptive_threshold_given)
+            s.adaptive.threshold = a.target_error;
+        // A reference of the wrong size is an error before any rendering.
+        if (!a.reference.empty() && root) ref = render::load_reference(a.reference, s.width, s.height);
+        step.reset();
+        dev_holder.emplace(opening.get());
+        startup.device_wait_ms = step.ms();
+        // Test aid for the distributed fault path (tests/mpi/mpi_test.cpp): this rank fails
+        // its set-up as a device would.
+        if (distributed && render::test_fail_round(comm.rank()) == 0)
+            fail("WP_TEST_FAIL_RANK: rank {} was told to fail its set-up", comm.rank());
+        wf_holder = std::make_unique<render::Wavefront>(*dev_holder, scene, s);
+    };
+    if (distributed)
+        render::protected_step(comm, [&] {
+            setup();
+            return render::RankStatus{};
+        });
+    else
+        setup();
+    ocl::Device& dev = *dev_holder;
+    render::Wavefront& wf = *wf_holder;
+    // Each rank's host and device, for the profile's per-rank split.
+    std::vector<std::string> rank_devices;
+    if (distributed) {
+        char host[64] = {};
+        gethostname(host, sizeof host - 1);
+        rank_devices = render::gather_text(
+            comm, fmt::format("{}|{}|{}: {}", host, comm.local_rank(), dev.info.index, dev.info.name));
+    }
     startup.scene_ms = wf.stats().upload_ms;
     startup.programs_ms = wf.stats().program_ms;
     startup.programs = wf.program_builds();
@@ -294,7 +369,7 @@ int run_render(const RenderArgs& a) {
     }
     lo.time_limit_s = a.time_s;
     lo.should_stop = [] { return interrupt_signal() != 0; };
-    if (ref && !a.quiet) {
+    if (ref && !a.quiet && !distributed) {
         // The error in the progress line, from a film read every few seconds only.
         auto last = std::make_shared<Timer>();
         lo.checkpoint_due = [last](int, double) {
@@ -306,7 +381,18 @@ int run_render(const RenderArgs& a) {
             last->reset();
         };
     }
-    render::LoopResult res = render::render_frames(wf, lo, &progress);
+    // Distributed: rounds over the ranks; on return rank 0's film is the total and the
+    // other ranks are done (rank 0 writes).
+    std::optional<render::DistributedResult> dres;
+    if (distributed) {
+        dres = render::render_distributed(comm, wf, lo, root ? &progress : nullptr);
+        if (!root) {
+            if (!dres->loop.interrupted && interrupt_signal() == 0) ocl::store_deferred_programs();
+            if (int sig = interrupt_signal()) return 128 + sig;
+            return 0;
+        }
+    }
+    render::LoopResult res = distributed ? dres->loop : render::render_frames(wf, lo, &progress);
     startup.first_frame_ms = res.first_frame_ms;
     startup.first_frame_device_ms = res.first_frame_kernel_ms;
     startup.first_launch_ms = res.first_frame_ms - res.first_frame_kernel_ms;
@@ -321,6 +407,7 @@ int run_render(const RenderArgs& a) {
     std::vector<ImageAttribute> attrs = {
         {"wavepath:spp", std::to_string(res.frames), true},
         {"wavepath:interrupted", res.interrupted ? "1" : "0", true}};
+    if (distributed) attrs.push_back({"wavepath:ranks", std::to_string(comm.size()), false});
     // Adaptive sampling: spp is the most any pixel got; the mean and the threshold too.
     if (s.adaptive.enabled) {
         attrs.push_back({"wavepath:adaptive_threshold", fmt::format("{:g}", s.adaptive.threshold), false});
@@ -394,7 +481,12 @@ int run_render(const RenderArgs& a) {
                    "accumulate {})\n",
                    nonfinite, counters[WP_COUNTER_GENERATE_NONFINITE],
                    counters[WP_COUNTER_SHADE_NONFINITE], counters[WP_COUNTER_ACCUMULATE_NONFINITE]);
-    render::ProfileSummary prof = render::summarize_profile(wf.profiler(), rays, ray_totals.shadow);
+    // The per-stage profile is rank 0's own (its launches, its rays); the ranks' split is in
+    // the profile JSON's "distributed".
+    render::ProfileSummary prof =
+        distributed ? render::summarize_profile(wf.profiler(), dres->own_rays + dres->own_shadow_rays,
+                                                dres->own_shadow_rays)
+                    : render::summarize_profile(wf.profiler(), rays, ray_totals.shadow);
     if (!a.quiet) {
         std::string names;
         for (const auto& o : outputs) names += (names.empty() ? "" : ", ") + o.string();
@@ -411,6 +503,7 @@ int run_render(const RenderArgs& a) {
                                    ? fmt::format("{} spp at most, {:.1f} mean (adaptive, threshold {:g})",
                                                  res.frames, wf.mean_spp(), s.adaptive.threshold)
                                    : fmt::format("{} spp", res.frames);
+        if (distributed) spp_text += fmt::format(" over {} ranks", comm.size());
         fmt::print("{}: {}x{}, {}, depth {}, {:.2f} s{}; wrote {}\n", scene.name, s.width,
                    s.height, spp_text, s.depth, res.render_s, why, names);
         if (res.estimated_error >= 0.0)
@@ -499,6 +592,27 @@ int run_render(const RenderArgs& a) {
             if (err_noisy) j["denoise"]["relmse_noisy"] = err_noisy->relmse;
         }
         j["memory"] = render::memory_json(wf.memory());
+        if (distributed) {
+            nlohmann::json ranks = nlohmann::json::array();
+            for (std::size_t r = 0; r < dres->ranks.size(); ++r) {
+                // "host|local rank|index: device name"
+                const std::string& t = rank_devices[r];
+                const auto bar1 = t.find('|'), bar2 = t.find('|', bar1 + 1);
+                ranks.push_back({{"rank", r}, {"passes", dres->ranks[r].passes},
+                                 {"seconds", dres->ranks[r].seconds}, {"rays", dres->ranks[r].rays},
+                                 {"host", t.substr(0, bar1)},
+                                 {"local_rank", std::atoi(t.substr(bar1 + 1, bar2 - bar1 - 1).c_str())},
+                                 {"device", t.substr(bar2 + 1)}});
+            }
+            j["distributed"] = {{"ranks", comm.size()}, {"rounds", dres->rounds},
+                                {"stages_from", "rank 0 (its own launches and rays)"},
+                                {"reductions", dres->reduce.count},
+                                {"reduce_bytes_per_rank", dres->reduce.bytes},
+                                {"reduce_ms", dres->reduce.ms},
+                                {"film_io_ms", dres->reduce.film_io_ms},
+                                {"rays", rays},
+                                {"per_rank", ranks}};
+        }
         j["kernel_options"] = wf.options();
         j["startup"] = render::startup_json(startup);
         j["nonfinite"] = {{"generate", counters[WP_COUNTER_GENERATE_NONFINITE]},
@@ -525,7 +639,9 @@ Subcommand add_render(CLI::App& app) {
         "render",
         "Render a scene with the wavefront path tracer. Without SCENE, renders the built-in "
         "Cornell box at 800x600 and writes render.exr (linear float) and render.png (sRGB) in "
-        "the current folder.");
+        "the current folder. Under `mpirun -np N` (when built with MPI) the N ranks share "
+        "every pixel's samples, rank 0 writes the outputs, and the image is within 1 ulp of "
+        "one process's (not with --adaptive, --aov or --denoise; docs/distributed.md).");
     auto* c = s.app;
     c->add_option("scene", args->scene, kSceneArgHelp);
     c->add_option("--spp", args->spp,
@@ -610,7 +726,7 @@ Subcommand add_render(CLI::App& app) {
                 "after it the start-up split: ms from main() to the first frame (one sample "
                 "per pixel done) and its steps (load, device, scene, programs, first frame "
                 "and the first launches' compile wait), plus exec to main");
-    s.run = [args]() -> int { return run_render(*args); };
+    s.run = [args]() -> int { return run_render(*args); };  // a copy: rank 0 alone talks
     return s;
 }
 

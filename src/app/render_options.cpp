@@ -36,7 +36,8 @@ void add_config_options(CLI::App* c, ConfigArgs& a) {
                   "Image size WIDTHxHEIGHT in pixels (default: the scene's, 800x600)");
     c->add_option("--device", a.device,
                   "OpenCL device: an index from `wavepath devices`, or text matched against "
-                  "'platform: name' (default: the first GPU, else the first device)");
+                  "'platform: name' (default: the first GPU, else the first device; `render` under mpirun: "
+                  "each rank the GPU, else the device, numbered by its rank on the node)");
     c->add_option("--traversal", a.traversal,
                   "Closest-hit BVH traversal of the intersect stage: stackless (ordered, "
                   "the default) or stack (the small private-stack traversal, kept as the "

@@ -73,4 +73,51 @@ FilmMoments resolve_moments(const std::vector<FilmPixel>& film,
     return m;
 }
 
+const FilmArray* FilmState::find(const std::string& name) const {
+    for (const auto& a : arrays)
+        if (a.name == name) return &a;
+    return nullptr;
+}
+
+std::size_t FilmState::array_bytes() const {
+    std::size_t b = 0;
+    for (const auto& a : arrays) b += a.values.size() * sizeof(double);
+    return b;
+}
+
+void film_pixels_to_doubles(const FilmPixel* film, std::size_t count, double* out) {
+    for (std::size_t k = 0; k < count; ++k)
+        for (int c = 0; c < 3; ++c) out[3 * k + c] = value(film[k], c);
+}
+
+void doubles_to_film_pixels(const double* in, std::size_t count, FilmPixel* film) {
+    for (std::size_t k = 0; k < count; ++k) {
+        float hi[3], lo[3];
+        for (int c = 0; c < 3; ++c) {
+            const double d = in[3 * k + c];
+            hi[c] = static_cast<float>(d);
+            lo[c] = static_cast<float>(d - double(hi[c]));
+        }
+        film[k].sum = float4{hi[0], hi[1], hi[2], 0.0f};
+        film[k].comp = float4{lo[0], lo[1], lo[2], 0.0f};
+    }
+}
+
+void add_film_state(FilmState& dst, const FilmState& src) {
+    if (dst.width != src.width || dst.height != src.height || dst.arrays.size() != src.arrays.size())
+        fail("film states differ: {}x{} with {} arrays and {}x{} with {}", dst.width, dst.height,
+             dst.arrays.size(), src.width, src.height, src.arrays.size());
+    for (std::size_t a = 0; a < dst.arrays.size(); ++a) {
+        auto& d = dst.arrays[a];
+        const auto& s = src.arrays[a];
+        if (d.name != s.name || d.values.size() != s.values.size())
+            fail("film states differ in array {} ('{}' vs '{}')", a, d.name, s.name);
+        for (std::size_t i = 0; i < d.values.size(); ++i) d.values[i] += s.values[i];
+    }
+    dst.passes += src.passes;
+    dst.rays += src.rays;
+    dst.shadow_rays += src.shadow_rays;
+    for (std::size_t i = 0; i < dst.counters.size(); ++i) dst.counters[i] += src.counters[i];
+}
+
 }  // namespace wp::render

@@ -8,6 +8,9 @@
 //   variance of the mean       s² / n                        (what a z-test needs)
 #pragma once
 
+#include <array>
+#include <cstdint>
+#include <string>
 #include <vector>
 
 #include "image/image.h"
@@ -46,5 +49,39 @@ void resolve_moments_into(const FilmPixel* film, const FilmPixel* film_sq, std::
 FilmMoments resolve_moments(const std::vector<FilmPixel>& film,
                             const std::vector<FilmPixel>& film_sq, int width, int height,
                             int samples);
+
+// The film on the host, to move between processes (render/distributed.h): every per-pixel
+// array of the film as 3 doubles a pixel (each channel's double-float pair hi + lo, which a
+// double holds to within 2^-53 relative), with the sample count, the NaN/Inf counters and
+// the ray totals. Generic over the arrays: a film array added later is one more entry in
+// Wavefront::film_arrays(), and saving, loading, sending and reducing follow.
+struct FilmArray {
+    std::string name;            // "sum", "sum_sq", ...
+    std::vector<double> values;  // 3 (RGB) per film pixel, pixel order (K film pixels per
+                                 // image pixel for an array of K sums a pixel)
+};
+
+struct FilmState {
+    int width = 0, height = 0;
+    std::int64_t passes = 0;  // samples per pixel in the sums
+    std::uint64_t rays = 0, shadow_rays = 0;
+    std::array<std::int64_t, WP_COUNTER_COUNT> counters{};
+    std::vector<FilmArray> arrays;
+
+    std::size_t pixels() const { return std::size_t(width) * std::size_t(height); }
+    // The array named `name`, or nullptr.
+    const FilmArray* find(const std::string& name) const;
+    // Bytes of the per-pixel arrays (what a reduction moves).
+    std::size_t array_bytes() const;
+};
+
+// Film pixels <-> 3 doubles each: d = double(hi) + double(lo) per channel; back, hi =
+// float(d), lo = float(d - hi) (a valid double-float pair: |lo| <= ulp(hi) / 2).
+void film_pixels_to_doubles(const FilmPixel* film, std::size_t count, double* out);
+void doubles_to_film_pixels(const double* in, std::size_t count, FilmPixel* film);
+
+// dst += src: sums, counters and ray totals (in double and integers); passes add. Throws
+// wp::Error unless both have the same size and the same arrays in the same order.
+void add_film_state(FilmState& dst, const FilmState& src);
 
 }  // namespace wp::render

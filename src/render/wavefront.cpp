@@ -164,11 +164,24 @@ void Wavefront::set_camera(const Camera& camera) {
 
 void Wavefront::render_passes(int passes, const std::function<void(double)>& on_wave) {
     if (adaptive()) return render_active(passes, on_wave);
+    render_passes_from(passes_, passes, on_wave);
+}
+
+void Wavefront::render_passes_from(std::int64_t first_pass, int passes,
+                                   const std::function<void(double)>& on_wave) {
+    if (adaptive()) {
+        if (first_pass != passes_)
+            fail("adaptive sampling renders its pixels' passes in order (first pass {}, film at {})",
+                 first_pass, passes_);
+        return render_active(passes, on_wave);
+    }
+    if (first_pass < 0 || first_pass + passes > std::int64_t(std::numeric_limits<std::uint32_t>::max()))
+        fail("passes {} .. {} are outside the sample index range", first_pass, first_pass + passes);
     const int n = pixel_count();
     const int per_wave = passes_per_wave();
     int done = 0;
     while (done < passes) {
-        const auto sample = static_cast<std::uint32_t>(passes_ + done);
+        const auto sample = static_cast<std::uint32_t>(first_pass + done);
         if (per_wave >= 1) {
             // k whole passes in one wave.
             int k = std::min(per_wave, passes - done);
@@ -436,6 +449,71 @@ Image Wavefront::resolve() {
             dev_.queue.enqueueReadBuffer(seg.sum.buffer, CL_FALSE, 0, seg.size * sizeof(FilmPixel),
                                          dst.data() + seg.first, nullptr, &last);
     return last;
+}
+
+std::vector<Wavefront::FilmArrayRef> Wavefront::film_arrays() const {
+    std::vector<FilmArrayRef> v = {{"sum", &FilmSegment::sum}};
+    if (settings_.variance) v.push_back({"sum_sq", &FilmSegment::sum_sq});
+    if (film_.replicates > 1)
+        v.push_back({"replicate_sum", &FilmSegment::replicate_sum, film_.replicates});
+    return v;
+}
+
+FilmState Wavefront::save_film_state() {
+    FilmState st;
+    st.width = settings_.width;
+    st.height = settings_.height;
+    st.passes = passes_;
+    const RayTotals t = ray_totals();
+    st.rays = t.closest;
+    st.shadow_rays = t.shadow;
+    const auto c = counters();
+    std::copy(c.begin(), c.end(), st.counters.begin());
+    for (const FilmArrayRef& ref : film_arrays()) {
+        const std::size_t m = static_cast<std::size_t>(ref.per_pixel);
+        FilmArray a{ref.name, std::vector<double>(3 * m * st.pixels())};
+        for (const auto& seg : film_.segments)
+            for (std::size_t k = 0; k < seg.size * m; k += kResolveChunk) {
+                const std::size_t n = std::min(kResolveChunk, seg.size * m - k);
+                const auto px = (seg.*ref.member).read(dev_, k, n);
+                film_pixels_to_doubles(px.data(), n, a.values.data() + 3 * (seg.first * m + k));
+            }
+        st.arrays.push_back(std::move(a));
+    }
+    return st;
+}
+
+void Wavefront::load_film_state(const FilmState& st) {
+    if (adaptive()) fail("load_film_state: adaptive sampling keeps per-pixel sample counts a film state does not hold");
+    const auto refs = film_arrays();
+    if (st.width != settings_.width || st.height != settings_.height || st.arrays.size() != refs.size())
+        fail("load_film_state: a {}x{} film with {} arrays does not fit this {}x{} render with {}",
+             st.width, st.height, st.arrays.size(), settings_.width, settings_.height, refs.size());
+    if (st.passes < 0 || st.passes > std::numeric_limits<int>::max())
+        fail("load_film_state: {} passes is out of range", st.passes);
+    dev_.queue.finish();
+    for (std::size_t i = 0; i < refs.size(); ++i) {
+        const FilmArray& a = st.arrays[i];
+        const std::size_t m = static_cast<std::size_t>(refs[i].per_pixel);
+        if (a.name != refs[i].name || a.values.size() != 3 * m * st.pixels())
+            fail("load_film_state: array {} is '{}' with {} values, expected '{}' with {}", i, a.name,
+                 a.values.size(), refs[i].name, 3 * m * st.pixels());
+        for (const auto& seg : film_.segments)
+            for (std::size_t k = 0; k < seg.size * m; k += kResolveChunk) {
+                const std::size_t n = std::min(kResolveChunk, seg.size * m - k);
+                std::vector<FilmPixel> px(n);
+                doubles_to_film_pixels(a.values.data() + 3 * (seg.first * m + k), n, px.data());
+                dev_.queue.enqueueWriteBuffer((seg.*refs[i].member).buffer, CL_TRUE, k * sizeof(FilmPixel),
+                                              n * sizeof(FilmPixel), px.data());
+            }
+    }
+    std::vector<int> c(WP_COUNTER_COUNT);
+    for (std::size_t i = 0; i < c.size(); ++i)
+        c[i] = static_cast<int>(std::min<std::int64_t>(st.counters[i], std::numeric_limits<int>::max()));
+    film_.counters.write(dev_, c);
+    film_.ray_total.write(dev_, std::vector<cl_ulong>{st.rays});
+    film_.shadow_ray_total.write(dev_, std::vector<cl_ulong>{st.shadow_rays});
+    passes_ = static_cast<int>(st.passes);
 }
 
 std::array<int, WP_COUNTER_COUNT> Wavefront::counters() {

@@ -116,6 +116,13 @@ class Wavefront {
     // call enqueued so far (fractional when one pass takes several waves, e.g. 0.25), so a
     // caller can report progress within a pass of an image larger than the pool.
     void render_passes(int passes, const std::function<void(double passes_done)>& on_wave = {});
+    // The same with the samples' indices starting at `first_pass` instead of frames(): the
+    // passes first_pass .. first_pass + passes - 1 of every pixel (a distributed render's
+    // share, render/distributed.h). frames() still grows by `passes`: it counts the samples
+    // in this film. Not with adaptive sampling (throws wp::Error unless first_pass ==
+    // frames()).
+    void render_passes_from(std::int64_t first_pass, int passes,
+                            const std::function<void(double passes_done)>& on_wave = {});
     // Whole passes one wave holds (0 when one pass takes several waves); with adaptive
     // sampling, passes of the active pixels.
     int passes_per_wave() const;
@@ -150,6 +157,24 @@ class Wavefront {
     std::size_t film_bytes() const;
     // Every device buffer this render allocated, by group (render/memory.h).
     const MemoryReport& memory() const { return memory_; }
+
+    // The film's per-pixel arrays as (name, member of FilmSegment, film pixels per image
+    // pixel): "sum", and "sum_sq" with variance. FilmState, its save, load and reduction
+    // follow this list, so one more film array is one more entry here (an array of K sums a
+    // pixel, pixel f's k-th at f * K + k, is {name, member, K}).
+    struct FilmArrayRef {
+        const char* name;
+        ocl::Array<FilmPixel> FilmSegment::*member;
+        int per_pixel = 1;
+    };
+    std::vector<FilmArrayRef> film_arrays() const;
+    // The whole film on the host (blocking; render/film.h): every film array, frames(),
+    // the counters and the ray totals.
+    FilmState save_film_state();
+    // Replaces the film by `state` (same size and arrays as save_film_state gives, else
+    // wp::Error): frames() becomes state.passes, and resolve(), moments() and
+    // estimate_error() then read it. Not with adaptive sampling (wp::Error).
+    void load_film_state(const FilmState& state);
 
     // Blocking reads (call between render_passes, not inside the hot path). resolve() and
     // moments() read the film in chunks, so a 16384² film is not copied whole.
