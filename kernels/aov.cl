@@ -147,14 +147,6 @@ WP_KERNEL void aov_accumulate(WP_GLOBAL const float4* aov, int first_pixel, int 
                               int pixel_count, int film_first, WP_GLOBAL float4* film) {
     int j = wp_global_id();
     if (j >= min(count, pixel_count)) return;
-    int f = first_pixel + j - film_first;  // the pixel's slot in this film segment
-    float4 a = film[2 * f], b = film[2 * f + 1];
-    for (int i = j; i < count; i += pixel_count) {
-        float4 x = aov[2 * i], y = aov[2 * i + 1];
-        if (y.w == WP_AOV_MISS) continue;  // adds 0 to every sum
-        a = a + x;                         // albedo and depth
-        b = b + make_float4(y.x, y.y, y.z, 1.0f);
-    }
-    film[2 * f] = a;
-    film[2 * f + 1] = b;
+    // The pixel's slot in this film segment; its samples are j, j + pixel_count, ...
+    wp_aov_accumulate_pixel(aov, j, first_pixel + j - film_first, count, pixel_count, film);
 }
