@@ -353,33 +353,25 @@ void Wavefront::run_wave(int first_pixel, std::uint32_t first_sample, int count,
     }
 }
 
-std::vector<FilmPixel> Wavefront::film() {
+std::vector<FilmPixel> Wavefront::read_segments(ocl::Array<FilmPixel> FilmSegment::*member) {
     std::vector<FilmPixel> f;
     for (const auto& seg : film_.segments) {
-        auto v = seg.sum.read(dev_);
+        auto v = (seg.*member).read(dev_);
         f.insert(f.end(), v.begin(), v.end());
     }
     return f;
 }
 
+std::vector<FilmPixel> Wavefront::film() { return read_segments(&FilmSegment::sum); }
+
 std::vector<FilmPixel> Wavefront::film_squares() {
     if (!settings_.variance) fail("the film keeps no variance (render settings without variance)");
-    std::vector<FilmPixel> f;
-    for (const auto& seg : film_.segments) {
-        auto v = seg.sum_sq.read(dev_);
-        f.insert(f.end(), v.begin(), v.end());
-    }
-    return f;
+    return read_segments(&FilmSegment::sum_sq);
 }
 
 std::vector<FilmPixel> Wavefront::film_replicates() {
     if (settings_.replicates <= 1) fail("the film keeps no replicate sums (render settings without replicates)");
-    std::vector<FilmPixel> f;
-    for (const auto& seg : film_.segments) {
-        auto v = seg.replicate_sum.read(dev_);
-        f.insert(f.end(), v.begin(), v.end());
-    }
-    return f;
+    return read_segments(&FilmSegment::replicate_sum);
 }
 
 namespace {

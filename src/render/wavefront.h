@@ -159,7 +159,8 @@ class Wavefront {
     const MemoryReport& memory() const { return memory_; }
 
     // The film's per-pixel arrays as (name, member of FilmSegment, film pixels per image
-    // pixel): "sum", and "sum_sq" with variance. FilmState, its save, load and reduction
+    // pixel): "sum", "sum_sq" with variance, "replicate_sum" (K a pixel) with K > 1
+    // replicates. FilmState, its save, load and reduction
     // follow this list, so one more film array is one more entry here (an array of K sums a
     // pixel, pixel f's k-th at f * K + k, is {name, member, K}).
     struct FilmArrayRef {
@@ -235,6 +236,8 @@ class Wavefront {
     void run_wave(int first_pixel, std::uint32_t first_sample, int count, int active_count = 0);
     // render_passes with adaptive sampling: waves over the active list, checks between them.
     void render_active(int passes, const std::function<void(double passes_done)>& on_wave);
+    // One film array of every segment, concatenated (film(), film_squares(), ...).
+    std::vector<FilmPixel> read_segments(ocl::Array<FilmPixel> FilmSegment::*member);
     // The adaptive check at pass `passes` if one is due there (next_error_check).
     void check_active(int passes);
 
