@@ -5,7 +5,8 @@
 //
 // aov_record
 // reads   rays_in[i], paths_in[i], hits[i] for i < count_in[0] (the queue of bounce
-//         `bounce`, after intersect); tris, material_ids, materials; the appearance arrays
+//         `bounce`, after intersect); tri_frames (the face normals: shade.cl), material_ids,
+//         materials; the appearance arrays
 //         of the features the scene has (else one-element placeholders): tri_normals
 //         (WP_HAVE_NORMALS), tri_uvs, material_textures and the texture pool
 //         (WP_HAVE_TEXTURES), tri_tangents (WP_HAVE_NORMAL_MAPS); at bounce > 0 the item's
@@ -51,7 +52,7 @@
 
 WP_KERNEL void aov_record(WP_GLOBAL const Ray* rays_in, WP_GLOBAL const PathState* paths_in,
                           WP_GLOBAL const int* count_in, WP_GLOBAL const Hit* hits,
-                          WP_GLOBAL const Triangle* tris, WP_GLOBAL const int* material_ids,
+                          WP_GLOBAL const float4* tri_frames, WP_GLOBAL const int* material_ids,
                           WP_GLOBAL const MaterialData* materials,
                           WP_GLOBAL const TriNormals* tri_normals, WP_GLOBAL const TriUVs* tri_uvs,
                           WP_GLOBAL const TriTangents* tri_tangents,
@@ -77,10 +78,8 @@ WP_KERNEL void aov_record(WP_GLOBAL const Ray* rays_in, WP_GLOBAL const PathStat
         return;
     }
     float3 d = wp_xyz(ray.dir);
-    Triangle tri = tris[hit.prim];
     MaterialData m = materials[material_ids[hit.prim]];
-    float3 v0 = wp_xyz(tri.v0), v1 = wp_xyz(tri.v1), v2 = wp_xyz(tri.v2);
-    float3 n = normalize(cross(v1 - v0, v2 - v0));
+    float3 n = wp_xyz(tri_frames[hit.prim]);
     int front = dot(d, n) < 0.0f;
     float3 albedo = wp_xyz(m.albedo);
 #if WP_HAVE_TEXTURES

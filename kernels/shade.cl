@@ -3,7 +3,9 @@
 //
 // shade_surface
 // reads   rays_in[i], paths_in[i], hits[i] for i < count_in[0] (the queue of this bounce);
-//         the scene in original triangle order: tris (vertices), material_ids, materials;
+//         the scene in original triangle order: tris (vertices), tri_frames (each
+//         triangle's unit face normal and offset share, shared/offset.h; written once per
+//         scene by shade_triangle_frames, below), material_ids, materials;
 //         material_tables (the per-material tables some kinds read at MaterialData.table,
 //         scene/material_tables.h; a one-float placeholder when no material has any);
 //         background radiance; with WP_HAVE_NEE the light table (lights.h): light_cdf,
@@ -170,7 +172,7 @@ WP_FN void wp_add_radiance(WP_GLOBAL float4* radiance, int item, float3 v, WP_GL
 // sets *shadow = 1 with *shadow_ray and its unoccluded contribution *contrib when it pushes
 // a shadow ray.
 WP_FN int wp_shade_path(Ray ray, PathState path, Hit hit, WP_GLOBAL const Triangle* tris,
-                        WP_GLOBAL const int* material_ids, WP_GLOBAL const MaterialData* materials,
+                        WP_GLOBAL const float4* tri_frames, WP_GLOBAL const int* material_ids, WP_GLOBAL const MaterialData* materials,
                         WP_GLOBAL const float* material_tables, float4 background,
                         LightTable lights, Appearance app, uint seed, int bounce, int max_depth,
                         WP_GLOBAL float4* radiance,
@@ -219,9 +221,10 @@ WP_FN int wp_shade_path(Ray ray, PathState path, Hit hit, WP_GLOBAL const Triang
     // Surface: geometric normal (counter-clockwise front) and the barycentric hit point,
     // which is more accurate than o + t d (Wächter & Binder 2019).
     Triangle tri = tris[hit.prim];
+    const float4 frame = tri_frames[hit.prim];
     MaterialData m = materials[material_ids[hit.prim]];
     float3 v0 = wp_xyz(tri.v0), v1 = wp_xyz(tri.v1), v2 = wp_xyz(tri.v2);
-    float3 n = normalize(cross(v1 - v0, v2 - v0));
+    float3 n = wp_xyz(frame);
     int front = dot(d, n) < 0.0f;
     float3 dn = normalize(d);
 #if WP_HAVE_TEXTURES
@@ -299,7 +302,7 @@ WP_FN int wp_shade_path(Ray ray, PathState path, Hit hit, WP_GLOBAL const Triang
 #endif
     float3 perr;
     float3 p = wp_hit_point(v0, v1, v2, hit.u, hit.v, &perr);
-    float tri_offset = wp_triangle_offset(v0, v1, v2);
+    float tri_offset = frame.w;
     float3 org = wp_offset_ray_origin(p, perr, ng, tri_offset);
 
 #if WP_HAVE_NEE
@@ -314,6 +317,7 @@ WP_FN int wp_shade_path(Ray ray, PathState path, Hit hit, WP_GLOBAL const Triang
         // The light point (triangle lights): the shadow ray's end is computed only for a
         // contribution that is pushed.
         float3 l0 = make_float3(0.0f, 0.0f, 0.0f), l1 = l0, l2 = l0, ln = l0, y = l0, yerr = l0;
+        float l_offset = 0.0f;  // the light triangle's offset share
         int env_sample = 0;
 #if WP_HAVE_TEXTURES
         float2 lbl = make_float2(0.0f, 0.0f);  // the light point's barycentrics
@@ -332,7 +336,9 @@ WP_FN int wp_shade_path(Ray ray, PathState path, Hit hit, WP_GLOBAL const Triang
             lp = lights.prims[li];
             Triangle lt = tris[lp];
             l0 = wp_xyz(lt.v0), l1 = wp_xyz(lt.v1), l2 = wp_xyz(lt.v2);
-            ln = normalize(cross(l1 - l0, l2 - l0));
+            const float4 lframe = tri_frames[lp];
+            ln = wp_xyz(lframe);
+            l_offset = lframe.w;
             float2 bl = wp_sample_triangle_barycentric(ul.x, ul.y);
             y = wp_hit_point(l0, l1, l2, bl.x, bl.y, &yerr);
             float3 to = y - p;
@@ -388,7 +394,7 @@ WP_FN int wp_shade_path(Ray ray, PathState path, Hit hit, WP_GLOBAL const Triang
                 // (offset.h).
                 float3 so = dot(wi, ng) > 0.0f ? org : wp_offset_ray_origin(p, perr, -ng, tri_offset);
                 float3 sd = env_sample ? wi * app.env_distance : y - so;
-                float tmax = env_sample ? 1.0f : wp_shadow_tmax(sd, yerr, ln, wp_triangle_offset(l0, l1, l2));
+                float tmax = env_sample ? 1.0f : wp_shadow_tmax(sd, yerr, ln, l_offset);
                 shadow_ray->org = make_float4(so.x, so.y, so.z, 0.0f);
                 shadow_ray->dir = make_float4(sd.x, sd.y, sd.z, tmax);
                 *contrib = wp_float4(c, 0.0f);
@@ -451,7 +457,8 @@ WP_FN int wp_shade_path(Ray ray, PathState path, Hit hit, WP_GLOBAL const Triang
 // of shade's samples under perf). Every work-item reaches the barriers.
 WP_KERNEL void shade_surface(WP_GLOBAL const Ray* rays_in, WP_GLOBAL const PathState* paths_in,
                              WP_GLOBAL const int* count_in, WP_GLOBAL const Hit* hits,
-                             WP_GLOBAL const Triangle* tris, WP_GLOBAL const int* material_ids,
+                             WP_GLOBAL const Triangle* tris, WP_GLOBAL const float4* tri_frames,
+                             WP_GLOBAL const int* material_ids,
                              WP_GLOBAL const MaterialData* materials,
                              WP_GLOBAL const float* material_tables, float4 background,
                              WP_GLOBAL const float* light_cdf, WP_GLOBAL const int* light_prims,
@@ -505,7 +512,7 @@ WP_KERNEL void shade_surface(WP_GLOBAL const Ray* rays_in, WP_GLOBAL const PathS
     if (i < count_in[0]) {
         PathState path = paths_in[i];
         item = path.item;
-        push = wp_shade_path(rays_in[i], path, hits[i], tris, material_ids, materials,
+        push = wp_shade_path(rays_in[i], path, hits[i], tris, tri_frames, material_ids, materials,
                              material_tables, background, lights, app, seed, bounce, max_depth,
                              radiance, counters, &next_ray, &next_path, &shadow, &shadow_ray,
                              &contrib);
@@ -536,4 +543,15 @@ WP_KERNEL void shade_surface(WP_GLOBAL const Ray* rays_in, WP_GLOBAL const PathS
         shadow_items[slot] = item;
         shadow_contrib[slot] = contrib;
     }
+}
+
+// shade_triangle_frames — run once per scene before the first shade_surface (ShadeStage::
+// prepare): tri_frames[t] = wp_triangle_frame of triangle t for t < count. Every hit on t and
+// every light sample on it reads the frame instead of computing it again.
+WP_KERNEL void shade_triangle_frames(WP_GLOBAL const Triangle* tris, int count,
+                                     WP_GLOBAL float4* tri_frames) {
+    int t = wp_global_id();
+    if (t >= count) return;
+    Triangle tri = tris[t];
+    tri_frames[t] = wp_triangle_frame(wp_xyz(tri.v0), wp_xyz(tri.v1), wp_xyz(tri.v2));
 }

@@ -87,6 +87,7 @@ ShadeOut run_shade(const ShadeCase& c) {
     auto hits = ocl::Array<Hit>::upload(dev, c.hits, "hits");
     render::ShadingScene scene;
     scene.tris = ocl::Array<Triangle>::upload(dev, c.tris, "tris");
+    scene.tri_frames = ocl::Array<float4>::allocate(dev, c.tris.size(), "tri frames");
     scene.material_ids = ocl::Array<int>::upload(dev, c.material_ids, "material ids");
     scene.materials = ocl::Array<MaterialData>::upload(dev, c.materials, "materials");
     scene.background = c.background;
@@ -101,6 +102,7 @@ ShadeOut run_shade(const ShadeCase& c) {
     shadow.count = ocl::Array<int>::zeros(dev, 1, "shadow count");
     auto radiance = ocl::Array<float4>::zeros(dev, c.pixels, "radiance");
     auto counters = ocl::Array<int>::zeros(dev, WP_COUNTER_COUNT, "counters");
+    shade_stage(c.config).prepare(scene);
     shade_stage(c.config).enqueue(n, in, hits, scene, c.seed, c.bounce, c.max_depth, radiance,
                                   counters, out, shadow);
     ShadeOut o;
@@ -166,6 +168,73 @@ ShadeCase many_paths(MaterialData m, glm::vec3 dir, int n) {
 }
 
 }  // namespace
+
+TEST_CASE("shade: triangle frames (face normal, offset share) match double precision", "[kernel][shade]") {
+    // The frames shade reads instead of recomputing them per hit (kernels/shared/offset.h):
+    // checked against the same quantities worked out in double on the host — the unit
+    // normal of (v1 - v0) x (v2 - v0) and the offset share min(K eps L^3 / |e1 x e2|, L / 1024)
+    // with K = 16, eps = 2^-24, L the longest edge — for random triangles at scales 1e-4 to
+    // 1e5 (needles included), and a zero-area triangle.
+    auto& dev = test::device();
+    test::Rng rng(7);
+    std::vector<Triangle> tris;
+    for (int i = 0; i < 4000; ++i) {
+        const double scale = std::pow(10.0, -4.0 + 9.0 * rng.uniform());
+        const double offset = (i % 3 == 0) ? 1e5 * rng.uniform() : 0.0;
+        auto vertex = [&] {
+            return float4{static_cast<float>(offset + scale * (2 * rng.uniform() - 1)),
+                          static_cast<float>(scale * (2 * rng.uniform() - 1)),
+                          static_cast<float>(scale * (2 * rng.uniform() - 1)), 0.0f};
+        };
+        Triangle t{vertex(), vertex(), vertex()};
+        if (i % 7 == 0) {  // a needle: v2 close to the line v0 v1
+            const float a = static_cast<float>(rng.uniform());
+            t.v2 = {t.v0.x + a * (t.v1.x - t.v0.x), t.v0.y + a * (t.v1.y - t.v0.y) + 1e-3f * t.v1.z,
+                    t.v0.z + a * (t.v1.z - t.v0.z), 0.0f};
+        }
+        tris.push_back(t);
+    }
+    tris.push_back({{1, 2, 3, 0}, {2, 4, 6, 0}, {3, 6, 9, 0}});  // collinear: zero area
+    render::ShadingScene scene;
+    scene.tris = ocl::Array<Triangle>::upload(dev, tris, "tris");
+    scene.tri_frames = ocl::Array<float4>::allocate(dev, tris.size(), "tri frames");
+    render::KernelConfig config;
+    shade_stage(config).prepare(scene);
+    const std::vector<float4> frames = scene.tri_frames.read(dev);
+    REQUIRE(frames.size() == tris.size());
+    double worst_normal = 0.0, worst_share = 0.0;
+    int checked = 0;
+    for (std::size_t i = 0; i + 1 < tris.size(); ++i) {
+        const glm::dvec3 v0(tris[i].v0.x, tris[i].v0.y, tris[i].v0.z);
+        const glm::dvec3 v1(tris[i].v1.x, tris[i].v1.y, tris[i].v1.z);
+        const glm::dvec3 v2(tris[i].v2.x, tris[i].v2.y, tris[i].v2.z);
+        const glm::dvec3 c = glm::cross(v1 - v0, v2 - v0);
+        const double twice_area = glm::length(c);
+        const double l = std::sqrt(std::max({glm::dot(v1 - v0, v1 - v0), glm::dot(v2 - v0, v2 - v0),
+                                             glm::dot(v2 - v1, v2 - v1)}));
+        // The kernel's float edges, cross product and lengths err by a few eps / sin(angle)
+        // relative (the vertices themselves are exact in double): skip the near-degenerate
+        // ones (many of the small triangles translated by up to 1e5 collapse in float).
+        const double sin_angle = twice_area / (glm::length(v1 - v0) * glm::length(v2 - v0));
+        if (!(sin_angle > 1e-3)) continue;
+        ++checked;
+        const glm::dvec3 n = c / twice_area;
+        const float4 f = frames[i];
+        worst_normal = std::max(worst_normal, glm::length(glm::dvec3(f.x, f.y, f.z) - n));
+        const double share = std::min(16.0 * 5.9604644775390625e-8 * l * l * l / twice_area, l / 1024.0);
+        worst_share = std::max(worst_share, std::abs(f.w - share) / share);
+    }
+    INFO("checked " << checked << " of " << tris.size() - 1 << " triangles; worst normal error "
+                    << worst_normal << ", worst relative share error " << worst_share);
+    CHECK(checked > 2000);
+    CHECK(worst_normal < 1e-4);  // a few eps / 1e-3 at worst
+    CHECK(worst_share < 1e-4);
+    // Zero area: no unit normal (OpenCL's normalize returns the zero vector), the share capped
+    // at L / 1024 (L = |(3, 6, 9) - (1, 2, 3)| = sqrt(56)).
+    const float4 z = frames.back();
+    CHECK(!(std::sqrt(z.x * z.x + z.y * z.y + z.z * z.z) > 0.5f));
+    CHECK(z.w == Approx(std::sqrt(56.0) / 1024.0).epsilon(1e-6));
+}
 
 TEST_CASE("shade: emission is one-sided, misses see the background", "[kernel][shade]") {
     ShadeCase c = single_triangle(material(WP_MATERIAL_DIFFUSE, glm::vec3(0.5f), {2, 3, 4}));

@@ -114,6 +114,16 @@ WP_FN float wp_triangle_offset(float3 v0, float3 v1, float3 v2) {
     return fmin(d, l * (1.0f / 1024.0f));  // also for zero area (d = inf or NaN)
 }
 
+// A triangle's face frame, what shading reads of it at every hit and light sample: xyz its
+// unit geometric normal (of (v1 - v0) x (v2 - v0): the counter-clockwise front; none for zero
+// area: OpenCL's normalize gives 0, the plain formula of compat.h NaN), w its offset share (wp_triangle_offset). The shade stage computes it once per
+// triangle (shade_triangle_frames) instead of at every path vertex: two sqrt and a divide
+// for the normal, two sqrt and a divide for the share, for the hit and again for the light.
+WP_FN float4 wp_triangle_frame(float3 v0, float3 v1, float3 v2) {
+    float3 n = normalize(cross(v1 - v0, v2 - v0));
+    return make_float4(n.x, n.y, n.z, wp_triangle_offset(v0, v1, v2));
+}
+
 // The origin of a ray leaving p (with error bound err) on the side of the unit normal n,
 // moved by at least `extra` (wp_triangle_offset) beyond the error bound.
 WP_FN float3 wp_offset_ray_origin(float3 p, float3 err, float3 n, float extra) {

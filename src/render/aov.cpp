@@ -72,7 +72,7 @@ AovStage::AovStage(const ocl::Device& dev, const KernelConfig& config, ocl::Prof
 
 ::cl::Event AovStage::record(std::size_t launch, const PathQueue& in, const ocl::Array<Hit>& hits,
                              const ShadingScene& scene, int bounce, const AovBuffers& aov) {
-    return record_.launch(target_, launch, in.rays, in.paths, in.count, hits, scene.tris,
+    return record_.launch(target_, launch, in.rays, in.paths, in.count, hits, scene.tri_frames,
                           scene.material_ids, scene.materials, scene.tri_normals, scene.tex.tri_uvs,
                           scene.tri_tangents, scene.tex.material_textures, scene.tex.textures,
                           scene.tex.views, scene.tex.texels8, scene.tex.texelsf, cl_int(bounce),

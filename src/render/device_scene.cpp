@@ -85,6 +85,7 @@ DeviceScene DeviceScene::upload(const ocl::Device& dev, const Scene& scene, cons
     ocl::MemoryGroup group(dev, kMemoryScene);  // everything else this function uploads
     ShadingScene& s = d.shading;
     s.tris = ocl::Array<Triangle>::upload(dev, up.triangles, "the shading triangles");
+    s.tri_frames = ocl::Array<float4>::allocate(dev, up.triangles.size(), "the triangle frames");
     s.material_ids = ocl::Array<int>::upload(dev, up.material_ids, "the material ids");
     s.materials = ocl::Array<MaterialData>::upload(dev, up.materials, "the materials");
     s.material_tables = ocl::Array<float>::upload(dev, up.material_tables, "the material tables");
@@ -161,7 +162,7 @@ DeviceScene DeviceScene::upload(const ocl::Device& dev, const Scene& scene, cons
                               static_cast<float>(height));
     d.warnings = std::move(app.warnings);
 
-    st.scene_bytes = d.bvh.bytes + s.tris.bytes() + s.material_ids.bytes() + s.materials.bytes() +
+    st.scene_bytes = d.bvh.bytes + s.tris.bytes() + s.tri_frames.bytes() + s.material_ids.bytes() + s.materials.bytes() +
                      s.material_tables.bytes() +
                      s.light_cdf.bytes() + s.light_prims.bytes() + s.light_pdf_area.bytes() +
                      st.texture_bytes + st.attribute_bytes + st.env_bytes;

@@ -36,6 +36,10 @@ struct TextureArrays {
 // What the shade stage reads of the scene, in the order its kernel takes them.
 struct ShadingScene {
     ocl::Array<Triangle> tris;        // original triangle order (hits name them by prim)
+    // Per triangle, the same order: xyz the unit face normal, w the ray-offset share
+    // (kernels/shared/offset.h, wp_triangle_frame); written on the device by
+    // ShadeStage::prepare, read by shade and the AOVs instead of recomputing them per hit.
+    ocl::Array<float4> tri_frames;
     ocl::Array<int> material_ids;     // one per triangle
     ocl::Array<MaterialData> materials;
     // The tables some kinds read at MaterialData.table (scene/material_tables.h): a

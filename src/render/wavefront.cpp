@@ -95,6 +95,7 @@ Wavefront::Wavefront(ocl::Device& dev, const Scene& scene, const RenderSettings&
     generate_ = GenerateStage(dev, config_, &profiler_);
     intersect_ = IntersectStage(dev, settings.traversal, config_, &profiler_);
     shade_ = ShadeStage(dev, config_, &profiler_);
+    shade_.prepare(scene_.shading);
     if (config_.nee()) shadow_ = ShadowStage(dev, config_, &profiler_);
     accumulate_ = AccumulateStage(dev, config_, settings_.variance, &profiler_, settings_.replicates);
     // The active list and the per-pixel errors (8 bytes a pixel, 12 with replicates) join

@@ -5,7 +5,14 @@ namespace wp::render {
 ShadeStage::ShadeStage(const ocl::Device& dev, const KernelConfig& config, ocl::Profiler* profiler)
     : target_{&dev.queue, profiler},
       program_(ocl::Program::build(dev, "shade.cl", config.shade_options())),
-      kernel_(program_, "shade_surface", "shade") {}
+      kernel_(program_, "shade_surface", "shade"),
+      frames_(program_, "shade_triangle_frames", "shade.frames") {}
+
+void ShadeStage::prepare(const ShadingScene& scene) {
+    // Not profiled: it is scene set-up, not a stage of any frame.
+    frames_.launch(ocl::LaunchTarget{target_.queue, nullptr}, scene.tris.size, scene.tris,
+                   cl_int(scene.tris.size), scene.tri_frames);
+}
 
 ::cl::Event ShadeStage::enqueue(std::size_t launch, const PathQueue& in, const ocl::Array<Hit>& hits,
                                 const ShadingScene& scene, std::uint32_t seed, int bounce,
@@ -13,7 +20,7 @@ ShadeStage::ShadeStage(const ocl::Device& dev, const KernelConfig& config, ocl::
                                 const ocl::Array<int>& counters, const PathQueue& out,
                                 const ShadowQueue& shadow) {
     return kernel_.launch(target_, launch, in.rays, in.paths, in.count, hits, scene.tris,
-                          scene.material_ids, scene.materials, scene.material_tables,
+                          scene.tri_frames,                           scene.material_ids, scene.materials, scene.material_tables,
                           scene.background, scene.light_cdf,
                           scene.light_prims, scene.light_pdf_area, cl_int(scene.light_count),
                           scene.tri_normals, scene.tex.tri_uvs, scene.tri_tangents,

@@ -16,6 +16,10 @@ class ShadeStage {
     // Builds shade.cl with the config's shade slice (materials, estimator, NEE, injection).
     ShadeStage(const ocl::Device& dev, const KernelConfig& config, ocl::Profiler* profiler = nullptr);
 
+    // shade_triangle_frames: fills scene.tri_frames (allocated by DeviceScene::upload, one
+    // per triangle) from scene.tris. Once per scene, before the first enqueue.
+    void prepare(const ShadingScene& scene);
+
     // shade_surface: shades the paths of `in` (hit by `hits`) at bounce `bounce`, adds
     // emission to radiance[item], pushes survivors into `out` and, with NEE, light samples
     // into `shadow`. `out` and `shadow` must have been emptied (QueueUpkeep::enqueue_reset).
@@ -29,6 +33,7 @@ class ShadeStage {
     ocl::LaunchTarget target_;
     ocl::Program program_;
     ocl::Kernel kernel_;
+    ocl::Kernel frames_;
 };
 
 }  // namespace wp::render
