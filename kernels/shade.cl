@@ -283,9 +283,16 @@ WP_FN int wp_shade_path(Ray ray, PathState path, Hit hit, WP_GLOBAL const Triang
         }
 #endif
         ns = front ? nf : -nf;
+        // A triangle without vertex normals (wp_interpolated_normal gave the face normal
+        // itself) shades exactly as a build without the feature: the guards below are for
+        // ns != ng, where the terminator factor would be 1 only up to rounding and the bend
+        // would tilt the face normal seen within cos θ < WP_BEND_EPS of grazing.
+        const int smooth = nf.x != n.x || nf.y != n.y || nf.z != n.z;
+        if (!smooth) terminator = 0;
         // Failure mode 1 (shading.h): always where the viewer sees the back of ns; for
         // lobes around the mirror direction also where that direction falls below.
-        if (m.kind != WP_MATERIAL_DIFFUSE || dot(-dn, ns) <= 0.0f) ns = wp_bend_normal(ns, ng, -dn);
+        if (smooth && (m.kind != WP_MATERIAL_DIFFUSE || dot(-dn, ns) <= 0.0f))
+            ns = wp_bend_normal(ns, ng, -dn);
     }
 #endif
 #if WP_HAVE_ANISOTROPY

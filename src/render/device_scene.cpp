@@ -107,9 +107,8 @@ DeviceScene DeviceScene::upload(const ocl::Device& dev, const Scene& scene, cons
     // scene lacks (the generic build, KernelConfig::with_every_feature()) reads neutral data
     // that leaves every estimate as it was:
     //   normals      per triangle, zero where the scene has none: the kernels shade with the
-    //                face normal (wp_interpolated_normal), whose terminator factor is 1 (the
-    //                bent-normal guard still tilts it for non-diffuse kinds seen within
-    //                cos θ < 1e-3 of grazing: shading.h);
+    //                face normal (wp_interpolated_normal) and, seeing ns = ng, skip the
+    //                bent-normal guard and the terminator factor (shade.cl);
     //   uvs          per triangle, (0, 0) without uvs; every material's texture slots -1 and
     //                alpha cut-off 0 (not masked): textures and the alpha test read nothing
     //                more, and anisotropy reads uvs only where α_u != α_v;
