@@ -181,6 +181,7 @@ WP_FN uint4 wp_sobol4_reversed(uint j) {
 #if defined(__OPENCL_VERSION__)
     // One 128-bit XOR per nibble (the host and CUDA spell the same four lanes out).
     uint4 x = (uint4)(0u);
+#pragma unroll
     for (int k = 0; k < 8; ++k) x ^= vload4(16 * k + (int)((j >> (4 * k)) & 15u), &wp_sobol_nibbles[0][0]);
     return x;
 #else
