@@ -81,7 +81,10 @@ WP_FN float wp_mf_lambda(Microfacet mf, float3 w) {
     float ax = mf.ax * w.x, ay = mf.ay * w.y;
     float t2 = (ax * ax + ay * ay) / (w.z * w.z);  // (α tan θ)² along w's azimuth
     if (!mf.beckmann) return 0.5f * (-1.0f + sqrt(1.0f + t2));
-    if (!(t2 > 0.0f)) return 0.0f;
+    // a = 1 / sqrt(t2) > 4: Λ < 8e-9 (erf(a) rounds to 1, exp(−a²) / (2 a sqrt(π)) < 8e-9), so
+    // 1 + Λ rounds to 1 and G1, G come out the same bits with Λ = 0; skips the erf and the exp
+    // for most directions of smooth surfaces (α tan θ < 1/4).
+    if (!(t2 >= 0.0625f)) return 0.0f;
     float a = 1.0f / sqrt(t2);
     return 0.5f * (erf(a) - 1.0f) + exp(-a * a) / (2.0f * a * 1.7724538509055160f);
 }
@@ -95,6 +98,19 @@ WP_FN float wp_mf_g1(Microfacet mf, float3 w) {
 WP_FN float wp_mf_g(Microfacet mf, float3 wo, float3 wi) {
     if (mf.separable) return wp_mf_g1(mf, wo) * wp_mf_g1(mf, wi);
     return 1.0f / (1.0f + wp_mf_lambda(mf, wo) + wp_mf_lambda(mf, wi));
+}
+
+// The same two with Λ(wo) and D(h) passed in, for callers that need them more than once at
+// one vertex (each is an erf and exps for Beckmann): equal bit for bit to wp_mf_g and
+// wp_mf_pdf_vndf given lambda_o = wp_mf_lambda(mf, wo), g1 = wp_mf_g1(mf, w), d = wp_mf_d(mf, h),
+// for wo_z > 0 and w_z > 0.
+WP_FN float wp_mf_g_lo(Microfacet mf, float lambda_o, float3 wi) {
+    if (mf.separable) return (1.0f / (1.0f + lambda_o)) * wp_mf_g1(mf, wi);
+    return 1.0f / (1.0f + lambda_o + wp_mf_lambda(mf, wi));
+}
+
+WP_FN float wp_mf_pdf_vndf_gd(float g1, float3 w, float3 h, float d) {
+    return g1 * max(0.0f, dot(w, h)) * d / w.z;
 }
 
 // erf⁻¹(x) for x in (−1, 1) in single precision (Giles 2010, "Approximating the erfinv
