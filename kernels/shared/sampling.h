@@ -22,6 +22,16 @@ WP_NAMESPACE_BEGIN
 // non-decreasing cdf (every CDF here: prefix sums); reads cdf[0 .. n − 2] only.
 WP_FN int wp_cdf_pick(WP_GLOBAL const float* cdf, int n, float u) {
     int base = 0, len = n;
+    // Quarters first: three independent loads per step (the halving steps' loads form one
+    // dependent chain, each waiting for the previous select). k = probes at or below u; the
+    // answer is then in quarter k (the last one keeps the remainder). Reads <= base + len − 2.
+    while (len > 3) {
+        int q = len >> 2;
+        int k = (u < cdf[base + q - 1] ? 0 : 1) + (u < cdf[base + 2 * q - 1] ? 0 : 1) +
+                (u < cdf[base + 3 * q - 1] ? 0 : 1);
+        base += k * q;
+        len = k == 3 ? len - 3 * q : q;
+    }
     while (len > 1) {
         int step = len >> 1;
         base += u < cdf[base + step - 1] ? 0 : step;
