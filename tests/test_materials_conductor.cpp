@@ -633,6 +633,75 @@ TEST_CASE("conductor: white furnace of the rough conductor (F = 1) and its energ
 // Extreme inputs (α from 1e-4 to 2, directions down to cos θ = 1e-30, random numbers 0 and
 // 1 − 2^-24): every sample, weight, density and f cos is finite and non-negative, sampled
 // directions are unit and above the surface, and the microfacet functions give no NaN.
+// The inline replacements for library calls on the Beckmann path (microfacet.h) against
+// double precision (std::erf, std::log, std::atan2) over dense sweeps; the bounds are the
+// ones the comments in microfacet.h state.
+TEST_CASE("conductor: inline erf log atan2 erfinv against double", "[unit][conductor]") {
+    double erf_abs = 0, erf_rel = 0;
+    for (long i = -2000000; i <= 2000000; ++i) {  // [-6, 6] in steps of 3e-6
+        float x = float(6.0 * double(i) / 2000000.0);
+        double r = std::erf(double(x)), e = std::abs(double(wp_erf(x)) - r);
+        erf_abs = std::max(erf_abs, e);
+        if (r != 0.0) erf_rel = std::max(erf_rel, e / std::abs(r));
+    }
+    bool odd = true;
+    for (float x = 1e-37f; x < 1.0f; x *= 1.0001f) {  // small arguments: relative error
+        double r = std::erf(double(x));
+        erf_rel = std::max(erf_rel, std::abs(double(wp_erf(x)) - r) / r);
+        odd = odd && wp_erf(-x) == -wp_erf(x);
+    }
+    CHECK(odd);
+    INFO("wp_erf: max abs " << erf_abs << ", max rel " << erf_rel);
+    CHECK(erf_abs < 1.3e-7);
+    CHECK(erf_rel < 1.6e-7);
+    CHECK(wp_erf(0.0f) == 0.0f);
+    CHECK(wp_erf(INFINITY) == 1.0f);
+    CHECK(wp_erf(-INFINITY) == -1.0f);
+    CHECK(std::isnan(wp_erf(NAN)));
+
+    double log_rel = 0;  // every 61st float in [2^-24, 4], and 1 ± a few ulp
+    const uint32_t lo = as_uint(std::ldexp(1.0f, -24)), hi = as_uint(4.0f);
+    for (uint64_t b = lo; b <= hi; b += 61) {
+        float x = as_float(uint32_t(b));
+        double r = std::log(double(x));
+        double e = std::abs(double(wp_log_normal(x)) - r);
+        log_rel = std::max(log_rel, r == 0.0 ? e : e / std::abs(r));
+    }
+    for (float x = 0.999f; x < 1.001f; x = std::nextafter(x, 2.0f)) {
+        double r = std::log(double(x));
+        double e = std::abs(double(wp_log_normal(x)) - r);
+        log_rel = std::max(log_rel, r == 0.0 ? e : e / std::abs(r));
+    }
+    INFO("wp_log_normal: max rel " << log_rel);
+    CHECK(log_rel < 1e-7);
+    CHECK(wp_log_normal(1.0f) == 0.0f);
+
+    double atan_abs = 0;  // the first quadrant, (y, x) = (sin t, cos t) and scaled
+    for (int i = 0; i <= 1000000; ++i) {
+        double t = 0.5 * kPi * i / 1000000.0;
+        for (float scale : {1.0f, 1e-20f, 3e20f}) {
+            float y = float(std::sin(t)) * scale, x = float(std::cos(t)) * scale;
+            atan_abs = std::max(atan_abs, std::abs(double(wp_atan2_guess(y, x)) - std::atan2(double(y), double(x))));
+        }
+    }
+    INFO("wp_atan2_guess: max abs " << atan_abs);
+    CHECK(atan_abs < 2e-6);
+    CHECK(wp_atan2_guess(0.0f, 0.0f) == 0.0f);
+
+    // erf⁻¹ (Giles' polynomial, now on wp_log_normal): one Newton step in double from the
+    // code's answer gives the reference; relative error as Giles states (~4e-7).
+    double erfinv_rel = 0;
+    for (long i = -999999; i <= 999999; ++i) {
+        float x = float(double(i) / 1000000.0);
+        double y = wp_erfinv(x);
+        double ref = y;
+        for (int k = 0; k < 3; ++k) ref -= (std::erf(ref) - double(x)) / (2.0 / std::sqrt(kPi) * std::exp(-ref * ref));
+        if (ref != 0.0) erfinv_rel = std::max(erfinv_rel, std::abs(y - ref) / std::abs(ref));
+    }
+    INFO("wp_erfinv: max rel " << erfinv_rel);
+    CHECK(erfinv_rel < 1e-6);
+}
+
 TEST_CASE("conductor: no NaN or negative value at extreme inputs", "[unit][conductor]") {
     const float alphas[] = {1e-4f, 1e-3f, 0.05f, 0.5f, 1.0f, 2.0f};
     const float zs[] = {1.0f, 0.9999999f, 0.99999f, 0.5f, 1e-2f, 1e-4f, 1e-6f, 1e-8f, 1e-20f, 1e-30f};

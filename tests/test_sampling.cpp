@@ -240,6 +240,47 @@ TEST_CASE("sampling: light triangles by power, points uniform on them (chi2)",
 // Each density the kernels sample with integrates to 1 over the sphere (minus what is
 // absorbed below the surface for GGX, which the weight accounts for), by midpoint
 // quadrature of the shared code compiled as C++.
+// wp_cdf_pick is branch-free (a select per halving step); it must pick the entry the classic
+// binary search picks (the first k with u < cdf[k], n − 1 if none) on every CDF the renderer
+// builds: prefix sums, with runs of equal entries (zero-weight lights), every size from 1.
+TEST_CASE("sampling: branch-free CDF pick equals the classic binary search", "[unit][sampling]") {
+    auto classic = [](const std::vector<float>& cdf, float u) {
+        int lo = 0, hi = int(cdf.size()) - 1;
+        while (lo < hi) {
+            int mid = (lo + hi) / 2;
+            if (u < cdf[mid])
+                hi = mid;
+            else
+                lo = mid + 1;
+        }
+        return lo;
+    };
+    test::Rng rng(15);
+    long mismatches = 0, picks = 0;
+    for (int n = 1; n <= 300; ++n) {
+        for (int trial = 0; trial < 4; ++trial) {
+            std::vector<float> w(n), cdf(n);
+            for (float& x : w) x = rng.uniform() < 0.2f ? 0.0f : rng.uniform();
+            double sum = 0, acc = 0;
+            for (float x : w) sum += x;
+            for (int k = 0; k < n; ++k) {
+                acc += w[k];
+                cdf[k] = sum > 0 ? float(acc / sum) : float(k + 1) / float(n);
+            }
+            cdf[n - 1] = 1.0f;
+            std::vector<float> us = {0.0f, 0x1.fffffep-1f};
+            for (int k = 0; k < n; ++k) us.insert(us.end(), {cdf[k], std::nextafter(cdf[k], 0.0f)});
+            for (int i = 0; i < 200; ++i) us.push_back(rng.uniform());
+            for (float u : us) {
+                ++picks;
+                if (wp_cdf_pick(cdf.data(), n, u) != classic(cdf, u)) ++mismatches;
+            }
+        }
+    }
+    INFO(mismatches << " of " << picks << " picks differ");
+    CHECK(mismatches == 0);
+}
+
 TEST_CASE("sampling: densities integrate to 1 (quadrature of the shared code)", "[unit][sampling]") {
     auto integrate = [](auto pdf) {
         const int nt = 400, np = 400;

@@ -74,6 +74,47 @@ WP_FN float wp_mf_d(Microfacet mf, float3 h) {
     return 1.0f / (WP_PI * mf.ax * mf.ay * t * t);
 }
 
+// erf(x) in single precision, inline (no library call: Sleef's erff was 8 % of a veach-mis
+// render). Chebyshev interpolants of degree 6 in x² on |x| < 1 (erf(x)/x) and of degree 14 on
+// 1 <= |x| < 4, 1 beyond (1 − erf(4) = 1.5e-8 rounds away); evaluated in float: max absolute
+// error 1.2e-7, max relative 1.5e-7 (~2 ulp near 1; tests/test_materials_conductor.cpp checks
+// both against double over a dense sweep). NaN stays NaN.
+WP_FN float wp_erf(float x) {
+    float ax = fabs(x), r;
+    if (ax < 1.0f) {
+        float u = 2.0f * ax * ax - 1.0f;
+        float p = 1.23060545e-06f;
+        p = -1.76690683e-05f + p * u;
+        p = 0.000217513545f + p * u;
+        p = -0.0022854195f + p * u;
+        p = 0.0198524967f + p * u;
+        p = -0.1405361f + p * u;
+        p = 0.965468764f + p * u;
+        r = ax * p;
+    } else if (ax < 4.0f) {
+        float u = (ax - 2.5f) * (2.0f / 3.0f);
+        float p = 0.000258006097f;
+        p = 9.49723835e-05f + p * u;
+        p = -0.00203279871f + p * u;
+        p = 0.00154291105f + p * u;
+        p = 0.00466702878f + p * u;
+        p = -0.0104118455f + p * u;
+        p = 0.00663786428f + p * u;
+        p = 0.00957930554f + p * u;
+        p = -0.0318684503f + p * u;
+        p = 0.0463895835f + p * u;
+        p = -0.0436514802f + p * u;
+        p = 0.0281874072f + p * u;
+        p = -0.01225283f + p * u;
+        p = 0.00326727028f + p * u;
+        p = 0.999593019f + p * u;
+        r = p;
+    } else {
+        r = ax >= 4.0f ? 1.0f : ax;  // NaN: NaN
+    }
+    return copysign(r, x);
+}
+
 // Smith Λ(w); FLT_MAX at or below the horizon.
 WP_FN float wp_mf_lambda(Microfacet mf, float3 w) {
     if (!(w.z != 0.0f)) return FLT_MAX;
@@ -81,9 +122,12 @@ WP_FN float wp_mf_lambda(Microfacet mf, float3 w) {
     float ax = mf.ax * w.x, ay = mf.ay * w.y;
     float t2 = (ax * ax + ay * ay) / (w.z * w.z);  // (α tan θ)² along w's azimuth
     if (!mf.beckmann) return 0.5f * (-1.0f + sqrt(1.0f + t2));
-    if (!(t2 > 0.0f)) return 0.0f;
+    // a = 1 / sqrt(t2) > 4: Λ < 8e-9 (erf(a) rounds to 1, exp(−a²) / (2 a sqrt(π)) < 8e-9), so
+    // 1 + Λ rounds to 1 and G1, G come out the same bits with Λ = 0; skips the erf and the exp
+    // for most directions of smooth surfaces (α tan θ < 1/4).
+    if (!(t2 >= 0.0625f)) return 0.0f;
     float a = 1.0f / sqrt(t2);
-    return 0.5f * (erf(a) - 1.0f) + exp(-a * a) / (2.0f * a * 1.7724538509055160f);
+    return 0.5f * (wp_erf(a) - 1.0f) + exp(-a * a) / (2.0f * a * 1.7724538509055160f);
 }
 
 WP_FN float wp_mf_g1(Microfacet mf, float3 w) {
@@ -97,10 +141,53 @@ WP_FN float wp_mf_g(Microfacet mf, float3 wo, float3 wi) {
     return 1.0f / (1.0f + wp_mf_lambda(mf, wo) + wp_mf_lambda(mf, wi));
 }
 
+// The same two with Λ(wo) and D(h) passed in, for callers that need them more than once at
+// one vertex (each is an erf and exps for Beckmann): equal bit for bit to wp_mf_g and
+// wp_mf_pdf_vndf given lambda_o = wp_mf_lambda(mf, wo), g1 = wp_mf_g1(mf, w), d = wp_mf_d(mf, h),
+// for wo_z > 0 and w_z > 0.
+WP_FN float wp_mf_g_lo(Microfacet mf, float lambda_o, float3 wi) {
+    if (mf.separable) return (1.0f / (1.0f + lambda_o)) * wp_mf_g1(mf, wi);
+    return 1.0f / (1.0f + lambda_o + wp_mf_lambda(mf, wi));
+}
+
+WP_FN float wp_mf_pdf_vndf_gd(float g1, float3 w, float3 h, float d) {
+    return g1 * max(0.0f, dot(w, h)) * d / w.z;
+}
+
+// ln(x) for normal, finite x > 0 (no zero, denormal, infinity or NaN handling), inline: Cephes'
+// logf (x = m 2^e, m in [√½, √2), a degree-8 polynomial in m − 1, e ln 2 in two parts); max
+// relative error 8.2e-8 over [2^-24, 4] (tests/test_materials_conductor.cpp sweeps it).
+WP_FN float wp_log_normal(float x) {
+    int i = as_int(x);
+    int e = ((i >> 23) & 0xff) - 126;
+    float m = as_float((i & 0x007fffff) | 0x3f000000);  // [0.5, 1)
+    if (m < 0.70710678f) {
+        e -= 1;
+        m = m + m - 1.0f;
+    } else {
+        m = m - 1.0f;
+    }
+    float z = m * m;
+    float y = 7.0376836292e-2f;
+    y = -1.1514610310e-1f + y * m;
+    y = 1.1676998740e-1f + y * m;
+    y = -1.2420140846e-1f + y * m;
+    y = 1.4249322787e-1f + y * m;
+    y = -1.6668057665e-1f + y * m;
+    y = 2.0000714765e-1f + y * m;
+    y = -2.4999993993e-1f + y * m;
+    y = 3.3333331174e-1f + y * m;
+    y = y * m * z;
+    float fe = (float)e;
+    y += -2.12194440e-4f * fe;
+    y += -0.5f * z;
+    return (m + y) + 0.693359375f * fe;
+}
+
 // erf⁻¹(x) for x in (−1, 1) in single precision (Giles 2010, "Approximating the erfinv
 // function", the float version; relative error ~ 4e-7 inside the domain).
 WP_FN float wp_erfinv(float x) {
-    float w = -log((1.0f - x) * (1.0f + x));
+    float w = -wp_log_normal((1.0f - x) * (1.0f + x));  // the product >= 2^-24 in (−1, 1)
     float p;
     if (w < 5.0f) {
         w = w - 2.5f;
@@ -128,6 +215,17 @@ WP_FN float wp_erfinv(float x) {
     return p * x;
 }
 
+// atan2(y, x) for y >= 0, x >= 0 (θ in [0, π/2]; (0, 0) gives 0), inline: an odd polynomial of
+// degree 11 in min/max (max error 1.9e-6 rad; tests/test_materials_conductor.cpp checks it).
+// For first guesses only.
+WP_FN float wp_atan2_guess(float y, float x) {
+    float lo = min(x, y), hi = max(x, y);
+    float z = hi > 0.0f ? lo / hi : 0.0f, z2 = z * z;
+    float r = z * (0.99997726f + z2 * (-0.33262347f + z2 * (0.19354346f +
+                   z2 * (-0.11643287f + z2 * (0.05265332f - 0.01172120f * z2)))));
+    return y > x ? 1.5707963267948966f - r : r;
+}
+
 // A slope (x̃, ỹ) of the isotropic unit-width Beckmann distribution of slopes visible from a
 // direction (sin θ, 0, cos θ) (Jakob 2014, "An Improved Visible Normal Sampling Routine for the
 // Beckmann Distribution": the x̃ marginal's CDF inverted by a bisection-safeguarded Newton
@@ -137,12 +235,15 @@ WP_FN float wp_erfinv(float x) {
 WP_FN float2 wp_beckmann_sample_slope11(float cos_theta, float sin_theta, float u1, float u2) {
     const float inv_sqrt_pi = 0.56418958354775628f;
     float tan_theta = sin_theta / cos_theta, cot_theta = cos_theta / sin_theta;  // cot: inf at θ = 0
-    float a = -1.0f, c = erf(cot_theta);
+    float a = -1.0f, c = wp_erf(cot_theta);
     float ux = max(u1, 1e-6f);
-    // Initial guess: Jakob's fit of the inverse CDF.
-    float theta = atan2(sin_theta, cos_theta);
+    // Initial guess: Jakob's fit of the inverse CDF. Only a guess (the iteration below decides
+    // the result), so θ and the power are computed cheaply: θ by wp_atan2_guess (error < 2e-6
+    // rad), (1 − u)^fit as exp(fit log(1 − u)) (pow's extended-precision library path cost
+    // more than the rest of the sampler's first guess together).
+    float theta = wp_atan2_guess(sin_theta, cos_theta);
     float fit = 1.0f + theta * (-0.876f + theta * (0.4265f - 0.0594f * theta));
-    float b = c - (1.0f + c) * pow(1.0f - ux, fit);
+    float b = c - (1.0f + c) * exp(fit * wp_log_normal(1.0f - ux));  // 1 − u >= 2^-24
     float norm = 1.0f / (1.0f + c + inv_sqrt_pi * tan_theta * exp(-cot_theta * cot_theta));
     for (int it = 0; it < 10; ++it) {
         if (!(b >= a && b <= c)) b = 0.5f * (a + c);

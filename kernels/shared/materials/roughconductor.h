@@ -23,7 +23,10 @@ WP_FN int wp_roughconductor_sample(MaterialData m, WP_GLOBAL const float* tables
     (void)tables, (void)front, (void)specular;
     Microfacet mf = wp_microfacet(m);
     float3 vo = wp_to_local(-d, ns);
-    float g1o = wp_mf_g1(mf, vo);
+    if (!(vo.z > 0.0f)) return 0;  // below the surface
+    // Λ(wo), G1(wo) and D(h) once each (the weight and the density share them).
+    float lo = wp_mf_lambda(mf, vo);
+    float g1o = 1.0f / (1.0f + lo);
     if (!(g1o > 0.0f)) return 0;  // below the surface, or so grazing that Λ overflows: no visible normal
     float3 h = wp_mf_sample_vndf(mf, vo, u.x, u.y);
     float oh = dot(vo, h);
@@ -32,8 +35,8 @@ WP_FN int wp_roughconductor_sample(MaterialData m, WP_GLOBAL const float* tables
     if (!(vi.z > 0.0f)) return 0;  // reflected below the surface: absorbed
     *wo = wp_to_world(vi, ns);
     float3 f = wp_fresnel_conductor(oh, wp_xyz(m.eta), wp_xyz(m.k));
-    *weight = wp_xyz(m.albedo) * f * (wp_mf_g(mf, vo, vi) / g1o);
-    *pdf = wp_mf_pdf_vndf(mf, vo, h) / (4.0f * oh);
+    *weight = wp_xyz(m.albedo) * f * (wp_mf_g_lo(mf, lo, vi) / g1o);
+    *pdf = wp_mf_pdf_vndf_gd(g1o, vo, h, wp_mf_d(mf, h)) / (4.0f * oh);
     return 1;
 }
 
@@ -47,8 +50,9 @@ WP_FN float3 wp_roughconductor_eval(MaterialData m, WP_GLOBAL const float* table
     if (!(vo.z > 0.0f) || !(vi.z > 0.0f)) return zero;
     float3 h = normalize(vo + vi);
     float oh = dot(vo, h);
-    *pdf = wp_mf_pdf_vndf(mf, vo, h) / (4.0f * oh);
-    float s = wp_mf_d(mf, h) * wp_mf_g(mf, vo, vi) / (4.0f * vo.z);
+    float lo = wp_mf_lambda(mf, vo), d_h = wp_mf_d(mf, h);
+    *pdf = wp_mf_pdf_vndf_gd(1.0f / (1.0f + lo), vo, h, d_h) / (4.0f * oh);
+    float s = d_h * wp_mf_g_lo(mf, lo, vi) / (4.0f * vo.z);
     return wp_xyz(m.albedo) * wp_fresnel_conductor(oh, wp_xyz(m.eta), wp_xyz(m.k)) * s;
 }
 
