@@ -187,7 +187,10 @@ WP_FN float wp_log_normal(float x) {
 // erf⁻¹(x) for x in (−1, 1) in single precision (Giles 2010, "Approximating the erfinv
 // function", the float version; relative error ~ 4e-7 inside the domain).
 WP_FN float wp_erfinv(float x) {
-    float w = -wp_log_normal((1.0f - x) * (1.0f + x));  // the product >= 2^-24 in (−1, 1)
+    // In (−1, 1) the product is >= 2^-23; the floor only keeps wp_log_normal's domain at
+    // x = ±1 (a sampler's bracket end), where it gives erfinv(1 − 2^-25) ≈ 3.9 instead of a
+    // log(0) that wp_log_normal does not handle.
+    float w = -wp_log_normal(max((1.0f - x) * (1.0f + x), 0x1p-24f));
     float p;
     if (w < 5.0f) {
         w = w - 2.5f;
