@@ -15,7 +15,7 @@
 //   * wp_trace_closest_stack: the same order with a private stack of (child, entry t);
 //     the oracle and the speed reference for the stackless one.
 //   * wp_trace_any: stackless like wp_trace_closest, but children in slot order, and it
-//     stops at the first hit.
+//     stops at the first hit; specialised for its constant cull distance (see there).
 // Leaf children are intersected as the order reaches them, without descending.
 //
 // Box tests are conservative (Ize, "Robust BVH Ray Traversal", JCGT 2(2), 2013): the far
@@ -326,16 +326,86 @@ WP_FN Hit wp_trace_stackless(Ray ray, WP_GLOBAL const BvhNode* nodes,
     }
 }
 
-WP_FN Hit wp_trace_closest(Ray ray, WP_GLOBAL const BvhNode* nodes, WP_GLOBAL const BvhLinks* links,
-                           WP_GLOBAL const Triangle* tris, WP_GLOBAL const int* prim_ids,
-                           TraceStats* stats WP_ALPHA_PARAM) {
-    return wp_trace_stackless(ray, nodes, links, tris, prim_ids, 0, stats WP_ALPHA_ARG);
-}
+// Closest hit: the generic walk with any_hit = 0. A macro, not a wrapper function: with
+// the any-hit traversal separate, a wrapper would be wp_trace_stackless's only caller and
+// clang would inline it there, and the inlined struct return (sret, noalias) leaves an
+// llvm.experimental.noalias.scope.decl that Oclgrind 21.10 cannot run.
+#define wp_trace_closest(ray, nodes, links, tris, prim_ids, ...) \
+    wp_trace_stackless(ray, nodes, links, tris, prim_ids, 0, __VA_ARGS__)
 
+// Any hit: the same slot-order walk as wp_trace_stackless(any_hit = 1), the same first
+// hit, specialised. It stops at the first hit, so its cull distance never changes: one
+// broadcast tmax * WP_HIT_CULL_SCALE for every box test (no reload of the hit, no multiply
+// per node), and a box's candidates stay exactly the ones its first test gave, so the
+// ring keeps only (node, children left) — no entry distances to store, reload or re-cull.
+// Eight bytes an entry make a deeper ring cheap (WP_BVH_ANY_RING); past it the climb
+// falls back to the up-links and a re-test, as in the closest-hit traversal.
 WP_FN Hit wp_trace_any(Ray ray, WP_GLOBAL const BvhNode* nodes, WP_GLOBAL const BvhLinks* links,
                        WP_GLOBAL const Triangle* tris, WP_GLOBAL const int* prim_ids,
                        TraceStats* stats WP_ALPHA_PARAM) {
-    return wp_trace_stackless(ray, nodes, links, tris, prim_ids, 1, stats WP_ALPHA_ARG);
+    Hit hit = wp_miss(ray);
+    BoxRay br = wp_box_ray(ray);
+    TriRay tr = wp_tri_ray(ray);
+    const float tcull = hit.t * WP_HIT_CULL_SCALE;  // hit.t stays tmax until the return
+    ulong bits = 0;  // bit k: the ancestor k + 1 levels above `cur` may have children left
+    int cur = 0;
+    int cand = 0;
+    int ring_node[WP_BVH_ANY_RING];
+    int ring_cand[WP_BVH_ANY_RING];
+    int ring_top = 0, ring_count = 0;
+    WpLanes tn;
+    cand = wp_intersect_node(&br, nodes, tcull, &tn);
+#if defined(WP_STATS)
+    stats->box_tests += WP_BVH_WIDTH;
+#endif
+    for (;;) {
+        int next = -1;
+        while (cand != 0) {
+            int s = wp_ctz32((uint)cand);
+            cand &= cand - 1;
+            int c = wp_child(nodes, cur, s);
+            if (c >= 0) {
+                next = c;
+                break;
+            }
+            if (wp_intersect_leaf(&tr, c, tris, prim_ids, &hit, stats WP_ALPHA_ARG)) return hit;
+        }
+        if (next >= 0) {
+            if (cand != 0) {
+                ring_top = (ring_top + 1) & (WP_BVH_ANY_RING - 1);
+                ring_node[ring_top] = cur;
+                ring_cand[ring_top] = cand;
+                ring_count = min(ring_count + 1, WP_BVH_ANY_RING);
+            }
+            bits = (bits << 1) | (cand != 0 ? 1u : 0u);
+            cur = next;
+            cand = wp_intersect_node(&br, nodes + cur, tcull, &tn);
+#if defined(WP_STATS)
+            stats->box_tests += WP_BVH_WIDTH;
+#endif
+            continue;
+        }
+        if (bits == 0) return hit;
+        int k = wp_ctz64(bits);
+        bits = (bits >> k) >> 1;
+        if (ring_count > 0) {
+            cur = ring_node[ring_top];
+            cand = ring_cand[ring_top];
+            ring_top = (ring_top - 1) & (WP_BVH_ANY_RING - 1);
+            --ring_count;
+            continue;
+        }
+        int sc = 0;
+        for (int j = 0; j <= k; ++j) {
+            BvhLinks l = links[cur];
+            sc = l.slot;
+            cur = l.parent;
+        }
+        cand = wp_intersect_node(&br, nodes + cur, tcull, &tn) & WP_SLOTS_AFTER(sc);
+#if defined(WP_STATS)
+        stats->box_tests += WP_BVH_WIDTH;
+#endif
+    }
 }
 
 // Ordered traversal with a private stack of (child reference, entry distance): the same
