@@ -231,6 +231,35 @@ WP_FN int wp_intersect_leaf(const TriRay* tr, int ref, WP_GLOBAL const Triangle*
     return any;
 }
 
+// The any-hit form: stops at the leaf's first triangle hit in (tmin, tmax) (and kept by
+// the alpha test), so it returns 1 exactly when wp_intersect_leaf would (whose first update
+// needs t < tmax, as hit->prim is still -1), without testing the rest of the leaf; the hit
+// it reports is that triangle, not the leaf's closest.
+WP_FN int wp_intersect_leaf_any(const TriRay* tr, int ref, WP_GLOBAL const Triangle* tris,
+                                WP_GLOBAL const int* prim_ids, Hit* hit, TraceStats* stats WP_ALPHA_PARAM) {
+    (void)stats;  // used only with WP_STATS
+    int first = wp_leaf_first(ref), count = wp_leaf_count(ref);
+    for (int i = first; i < first + count; ++i) {
+        Triangle tri = tris[i];
+        float t, u, v;
+#if defined(WP_STATS)
+        stats->tri_tests += 1;
+#endif
+        if (wp_intersect_triangle(tr, tri.v0, tri.v1, tri.v2, &t, &u, &v) && t < hit->t) {
+            int prim = prim_ids[i];
+#if WP_HAVE_ALPHA_MASK
+            if (!wp_alpha_pass(alpha, prim, u, v)) continue;
+#endif
+            hit->t = t;
+            hit->prim = prim;
+            hit->u = u;
+            hit->v = v;
+            return 1;
+        }
+    }
+    return 0;
+}
+
 WP_FN Hit wp_miss(Ray ray) {
     Hit h;
     h.t = ray.dir.w;
@@ -333,11 +362,14 @@ WP_FN Hit wp_trace_stackless(Ray ray, WP_GLOBAL const BvhNode* nodes,
 #define wp_trace_closest(ray, nodes, links, tris, prim_ids, ...) \
     wp_trace_stackless(ray, nodes, links, tris, prim_ids, 0, __VA_ARGS__)
 
-// Any hit: the same slot-order walk as wp_trace_stackless(any_hit = 1), the same first
-// hit, specialised. It stops at the first hit, so its cull distance never changes: one
-// broadcast tmax * WP_HIT_CULL_SCALE for every box test (no reload of the hit, no multiply
-// per node), and a box's candidates stay exactly the ones its first test gave, so the
-// ring keeps only (node, children left) — no entry distances to store, reload or re-cull.
+// Any hit: the same slot-order walk as wp_trace_stackless(any_hit = 1) (the same leaves in
+// the same order, so the same occlusion on every ray), specialised. Within the first leaf
+// that is hit it stops at the first triangle (wp_intersect_leaf_any), so the hit it reports
+// may be another triangle of that leaf than the generic walk's. As it stops at the first
+// hit, its cull distance never changes: one broadcast tmax * WP_HIT_CULL_SCALE for every
+// box test (no reload of the hit, no multiply per node), and a box's candidates stay
+// exactly the ones its first test gave, so the ring keeps only (node, children left) — no
+// entry distances to store, reload or re-cull.
 // Eight bytes an entry make a deeper ring cheap (WP_BVH_ANY_RING); past it the climb
 // falls back to the up-links and a re-test, as in the closest-hit traversal.
 WP_FN Hit wp_trace_any(Ray ray, WP_GLOBAL const BvhNode* nodes, WP_GLOBAL const BvhLinks* links,
@@ -368,7 +400,7 @@ WP_FN Hit wp_trace_any(Ray ray, WP_GLOBAL const BvhNode* nodes, WP_GLOBAL const 
                 next = c;
                 break;
             }
-            if (wp_intersect_leaf(&tr, c, tris, prim_ids, &hit, stats WP_ALPHA_ARG)) return hit;
+            if (wp_intersect_leaf_any(&tr, c, tris, prim_ids, &hit, stats WP_ALPHA_ARG)) return hit;
         }
         if (next >= 0) {
             if (cand != 0) {
