@@ -269,7 +269,9 @@ WP_FN Hit wp_miss(Ray ray) {
     return h;
 }
 
-// Stackless traversal shared by closest hit (ordered) and any hit (slot order, early out).
+// Stackless traversal: closest hit (ordered; wp_trace_closest) or any hit (slot order,
+// early out). The kernels' any hit is wp_trace_any below, a specialised form of this walk;
+// the generic any_hit = 1 path stays as its oracle in the host tests.
 //
 // A climb normally re-tests the ancestor's boxes to find the children it has left. A short
 // ring of the WP_BVH_SHORT_STACK most recent such ancestors (node, candidates left, entry
