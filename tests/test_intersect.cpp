@@ -191,23 +191,105 @@ TEST_CASE("stackless traversal: the ancestor ring's size never changes a hit", "
     Fixture f = make_fixture(std::move(soup));
     auto rays = test::random_rays(20000, 3, f.lo, f.hi);
     auto want = tracer().trace(f.gpu, rays, bvh::TraceVariant::Stack);
-    long tests_default = 0;
+    // The any-hit traversal's own ring (WP_BVH_ANY_RING) the same way: the same first hit
+    // (bit for bit) with every ring size, on full rays and on shadow segments that end
+    // just before or just after the closest hit, and occlusion as the closest hit says.
+    std::vector<Ray> shadow = rays;
+    for (std::size_t i = 0; i < rays.size(); ++i)
+        if (want[i].prim >= 0) shadow[i].dir.w = want[i].t * (i % 2 ? 0.999f : 1.001f);
+    auto want_any = tracer().trace(f.gpu, rays, bvh::TraceVariant::Any);
+    auto want_any_short = tracer().trace(f.gpu, shadow, bvh::TraceVariant::Any);
+    long tests_default = 0, any_tests_default = 0;
     for (int ring : {0, 1, 2}) {
-        bvh::BatchTracer t(test::device(), true, ring ? "-D WP_BVH_SHORT_STACK=" + std::to_string(ring) : "");
-        std::vector<TraceStats> st;
+        bvh::BatchTracer t(test::device(), true,
+                           ring ? "-D WP_BVH_SHORT_STACK=" + std::to_string(ring) +
+                                      " -D WP_BVH_ANY_RING=" + std::to_string(ring)
+                                : "");
+        std::vector<TraceStats> st, st_any;
         auto got = t.trace(f.gpu, rays, bvh::TraceVariant::Stackless, &st);
-        auto any = t.trace(f.gpu, rays, bvh::TraceVariant::Any);
-        int differ = 0, occl = 0;
-        long box_tests = 0;
+        auto any = t.trace(f.gpu, rays, bvh::TraceVariant::Any, &st_any);
+        auto any_short = t.trace(f.gpu, shadow, bvh::TraceVariant::Any);
+        int differ = 0, occl = 0, any_differ = 0, short_hits = 0;
+        long box_tests = 0, any_box_tests = 0;
         for (std::size_t i = 0; i < rays.size(); ++i) {
             if (std::memcmp(&got[i], &want[i], sizeof(Hit)) != 0) ++differ;
             if ((any[i].prim >= 0) != (want[i].prim >= 0)) ++occl;
+            if (std::memcmp(&any[i], &want_any[i], sizeof(Hit)) != 0) ++any_differ;
+            if (std::memcmp(&any_short[i], &want_any_short[i], sizeof(Hit)) != 0) ++any_differ;
+            short_hits += any_short[i].prim >= 0;
             box_tests += st[i].box_tests;
+            any_box_tests += st_any[i].box_tests;
         }
-        INFO("ring " << (ring ? ring : WP_BVH_SHORT_STACK) << ": " << box_tests << " box tests");
+        INFO("ring " << (ring ? ring : WP_BVH_SHORT_STACK) << ": " << box_tests << " box tests; any-hit ring "
+                     << (ring ? ring : WP_BVH_ANY_RING) << ": " << any_box_tests);
         CHECK(differ == 0);
         CHECK(occl == 0);
-        if (ring == 0) tests_default = box_tests;
-        else CHECK(box_tests > tests_default);
+        CHECK(any_differ == 0);
+        CHECK(short_hits > 0);
+        if (ring == 0) {
+            tests_default = box_tests;
+            any_tests_default = any_box_tests;
+        } else {
+            CHECK(box_tests > tests_default);
+            CHECK(any_box_tests > any_tests_default);
+        }
+    }
+}
+
+// wp_trace_any is the generic stackless walk (wp_trace_stackless with any_hit = 1)
+// specialised for a constant cull distance and stopping at the first triangle hit inside
+// a leaf: the same leaves in the same order, so the same occlusion on every ray, and its
+// hit is a real one (the triangle test on that triangle gives the same t, below tmax) in
+// the leaf where the generic walk stopped (so never before the generic walk's t). Here on
+// the host build, on full rays and on segments that end just before or just after the
+// closest hit (the kernels match the host build: above).
+TEST_CASE("any hit: the specialised traversal agrees with the generic walk", "[kernel][intersect]") {
+    for (int scene = 0; scene < 2; ++scene) {
+        Scene s = make_cornell_box();
+        Fixture f = scene == 0 ? make_fixture(Mesh{s.positions, s.triangles})
+                               : make_fixture(make_random_soup(20000, 11, {-1, -1, -1}, {1, 1, 1}, 0.05f));
+        auto rays = test::random_rays(20000, 13, f.lo, f.hi);
+        int bad = 0, hits = 0, short_hits = 0, other_prim = 0;
+        for (std::size_t i = 0; i < rays.size(); ++i) {
+            const Ray& r = rays[i];
+            TraceStats st{0, 0};
+            Hit closest = wp::wp_trace_closest(r, f.flat.nodes.data(), f.flat.links.data(), f.flat.triangles.data(),
+                                               f.flat.prim_ids.data(), &st);
+            Ray seg = r;
+            if (closest.prim >= 0) seg.dir.w = closest.t * (i % 2 ? 0.999f : 1.001f);
+            for (const Ray& q : {r, seg}) {
+                TraceStats sa{0, 0}, sb{0, 0};
+                Hit a = wp::wp_trace_any(q, f.flat.nodes.data(), f.flat.links.data(), f.flat.triangles.data(),
+                                         f.flat.prim_ids.data(), &sa);
+                Hit b = wp::wp_trace_stackless(q, f.flat.nodes.data(), f.flat.links.data(),
+                                               f.flat.triangles.data(), f.flat.prim_ids.data(), 1, &sb);
+                bool ok = (a.prim >= 0) == (b.prim >= 0);
+                if (a.prim < 0) {
+                    ok = ok && std::memcmp(&a, &b, sizeof(Hit)) == 0;
+                } else {
+                    auto p = [&](int k) {
+                        glm::vec3 v = f.mesh.positions[f.mesh.triangles[a.prim][k]];
+                        return float4{v.x, v.y, v.z, 0.0f};
+                    };
+                    TriRay tr = wp::wp_tri_ray(q);
+                    float t, u, v;
+                    ok = ok && wp::wp_intersect_triangle(&tr, p(0), p(1), p(2), &t, &u, &v) && t == a.t &&
+                         u == a.u && v == a.v && a.t < q.dir.w && a.t >= b.t;
+                    other_prim += a.prim != b.prim;
+                }
+                if (!ok && ++bad <= 5)
+                    UNSCOPED_INFO("ray " << i << ": any prim " << a.prim << " t " << a.t << ", generic prim "
+                                         << b.prim << " t " << b.t);
+            }
+            hits += closest.prim >= 0;
+            Hit a = wp::wp_trace_any(seg, f.flat.nodes.data(), f.flat.links.data(), f.flat.triangles.data(),
+                                     f.flat.prim_ids.data(), &st);
+            short_hits += a.prim >= 0;
+        }
+        INFO("scene " << scene << ": " << hits << " hits, " << short_hits << " occluded segments, " << other_prim
+                      << " hits on another triangle of the leaf");
+        CHECK(bad == 0);
+        CHECK(hits > 1000);
+        CHECK(short_hits > 0);
     }
 }

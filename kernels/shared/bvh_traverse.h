@@ -15,7 +15,7 @@
 //   * wp_trace_closest_stack: the same order with a private stack of (child, entry t);
 //     the oracle and the speed reference for the stackless one.
 //   * wp_trace_any: stackless like wp_trace_closest, but children in slot order, and it
-//     stops at the first hit.
+//     stops at the first hit; specialised for its constant cull distance (see there).
 // Leaf children are intersected as the order reaches them, without descending.
 //
 // Box tests are conservative (Ize, "Robust BVH Ray Traversal", JCGT 2(2), 2013): the far
@@ -231,6 +231,35 @@ WP_FN int wp_intersect_leaf(const TriRay* tr, int ref, WP_GLOBAL const Triangle*
     return any;
 }
 
+// The any-hit form: stops at the leaf's first triangle hit in (tmin, tmax) (and kept by
+// the alpha test), so it returns 1 exactly when wp_intersect_leaf would (whose first update
+// needs t < tmax, as hit->prim is still -1), without testing the rest of the leaf; the hit
+// it reports is that triangle, not the leaf's closest.
+WP_FN int wp_intersect_leaf_any(const TriRay* tr, int ref, WP_GLOBAL const Triangle* tris,
+                                WP_GLOBAL const int* prim_ids, Hit* hit, TraceStats* stats WP_ALPHA_PARAM) {
+    (void)stats;  // used only with WP_STATS
+    int first = wp_leaf_first(ref), count = wp_leaf_count(ref);
+    for (int i = first; i < first + count; ++i) {
+        Triangle tri = tris[i];
+        float t, u, v;
+#if defined(WP_STATS)
+        stats->tri_tests += 1;
+#endif
+        if (wp_intersect_triangle(tr, tri.v0, tri.v1, tri.v2, &t, &u, &v) && t < hit->t) {
+            int prim = prim_ids[i];
+#if WP_HAVE_ALPHA_MASK
+            if (!wp_alpha_pass(alpha, prim, u, v)) continue;
+#endif
+            hit->t = t;
+            hit->prim = prim;
+            hit->u = u;
+            hit->v = v;
+            return 1;
+        }
+    }
+    return 0;
+}
+
 WP_FN Hit wp_miss(Ray ray) {
     Hit h;
     h.t = ray.dir.w;
@@ -240,7 +269,9 @@ WP_FN Hit wp_miss(Ray ray) {
     return h;
 }
 
-// Stackless traversal shared by closest hit (ordered) and any hit (slot order, early out).
+// Stackless traversal: closest hit (ordered; wp_trace_closest) or any hit (slot order,
+// early out). The kernels' any hit is wp_trace_any below, a specialised form of this walk;
+// the generic any_hit = 1 path stays as its oracle in the host tests.
 //
 // A climb normally re-tests the ancestor's boxes to find the children it has left. A short
 // ring of the WP_BVH_SHORT_STACK most recent such ancestors (node, candidates left, entry
@@ -326,16 +357,89 @@ WP_FN Hit wp_trace_stackless(Ray ray, WP_GLOBAL const BvhNode* nodes,
     }
 }
 
-WP_FN Hit wp_trace_closest(Ray ray, WP_GLOBAL const BvhNode* nodes, WP_GLOBAL const BvhLinks* links,
-                           WP_GLOBAL const Triangle* tris, WP_GLOBAL const int* prim_ids,
-                           TraceStats* stats WP_ALPHA_PARAM) {
-    return wp_trace_stackless(ray, nodes, links, tris, prim_ids, 0, stats WP_ALPHA_ARG);
-}
+// Closest hit: the generic walk with any_hit = 0. A macro, not a wrapper function: with
+// the any-hit traversal separate, a wrapper would be wp_trace_stackless's only caller and
+// clang would inline it there, and the inlined struct return (sret, noalias) leaves an
+// llvm.experimental.noalias.scope.decl that Oclgrind 21.10 cannot run.
+#define wp_trace_closest(ray, nodes, links, tris, prim_ids, ...) \
+    wp_trace_stackless(ray, nodes, links, tris, prim_ids, 0, __VA_ARGS__)
 
+// Any hit: the same slot-order walk as wp_trace_stackless(any_hit = 1) (the same leaves in
+// the same order, so the same occlusion on every ray), specialised. Within the first leaf
+// that is hit it stops at the first triangle (wp_intersect_leaf_any), so the hit it reports
+// may be another triangle of that leaf than the generic walk's. As it stops at the first
+// hit, its cull distance never changes: one broadcast tmax * WP_HIT_CULL_SCALE for every
+// box test (no reload of the hit, no multiply per node), and a box's candidates stay
+// exactly the ones its first test gave, so the ring keeps only (node, children left) — no
+// entry distances to store, reload or re-cull.
+// Eight bytes an entry make a deeper ring cheap (WP_BVH_ANY_RING); past it the climb
+// falls back to the up-links and a re-test, as in the closest-hit traversal.
 WP_FN Hit wp_trace_any(Ray ray, WP_GLOBAL const BvhNode* nodes, WP_GLOBAL const BvhLinks* links,
                        WP_GLOBAL const Triangle* tris, WP_GLOBAL const int* prim_ids,
                        TraceStats* stats WP_ALPHA_PARAM) {
-    return wp_trace_stackless(ray, nodes, links, tris, prim_ids, 1, stats WP_ALPHA_ARG);
+    Hit hit = wp_miss(ray);
+    BoxRay br = wp_box_ray(ray);
+    TriRay tr = wp_tri_ray(ray);
+    const float tcull = hit.t * WP_HIT_CULL_SCALE;  // hit.t stays tmax until the return
+    ulong bits = 0;  // bit k: the ancestor k + 1 levels above `cur` may have children left
+    int cur = 0;
+    int cand = 0;
+    int ring_node[WP_BVH_ANY_RING];
+    int ring_cand[WP_BVH_ANY_RING];
+    int ring_top = 0, ring_count = 0;
+    WpLanes tn;
+    cand = wp_intersect_node(&br, nodes, tcull, &tn);
+#if defined(WP_STATS)
+    stats->box_tests += WP_BVH_WIDTH;
+#endif
+    for (;;) {
+        int next = -1;
+        while (cand != 0) {
+            int s = wp_ctz32((uint)cand);
+            cand &= cand - 1;
+            int c = wp_child(nodes, cur, s);
+            if (c >= 0) {
+                next = c;
+                break;
+            }
+            if (wp_intersect_leaf_any(&tr, c, tris, prim_ids, &hit, stats WP_ALPHA_ARG)) return hit;
+        }
+        if (next >= 0) {
+            if (cand != 0) {
+                ring_top = (ring_top + 1) & (WP_BVH_ANY_RING - 1);
+                ring_node[ring_top] = cur;
+                ring_cand[ring_top] = cand;
+                ring_count = min(ring_count + 1, WP_BVH_ANY_RING);
+            }
+            bits = (bits << 1) | (cand != 0 ? 1u : 0u);
+            cur = next;
+            cand = wp_intersect_node(&br, nodes + cur, tcull, &tn);
+#if defined(WP_STATS)
+            stats->box_tests += WP_BVH_WIDTH;
+#endif
+            continue;
+        }
+        if (bits == 0) return hit;
+        int k = wp_ctz64(bits);
+        bits = (bits >> k) >> 1;
+        if (ring_count > 0) {
+            cur = ring_node[ring_top];
+            cand = ring_cand[ring_top];
+            ring_top = (ring_top - 1) & (WP_BVH_ANY_RING - 1);
+            --ring_count;
+            continue;
+        }
+        int sc = 0;
+        for (int j = 0; j <= k; ++j) {
+            BvhLinks l = links[cur];
+            sc = l.slot;
+            cur = l.parent;
+        }
+        cand = wp_intersect_node(&br, nodes + cur, tcull, &tn) & WP_SLOTS_AFTER(sc);
+#if defined(WP_STATS)
+        stats->box_tests += WP_BVH_WIDTH;
+#endif
+    }
 }
 
 // Ordered traversal with a private stack of (child reference, entry distance): the same

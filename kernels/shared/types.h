@@ -124,6 +124,11 @@ typedef struct BvhLinks {
 #ifndef WP_BVH_SHORT_STACK
 #define WP_BVH_SHORT_STACK 4
 #endif
+// The any-hit traversal's ring (node and children left, no distances: 8 bytes an entry;
+// a power of two). Eight covers the built-in scenes' 8-wide trees (depth <= 8).
+#ifndef WP_BVH_ANY_RING
+#define WP_BVH_ANY_RING 8
+#endif
 // Entries of the small-stack (oracle) traversal: at most WIDTH - 1 pending children a level.
 #define WP_BVH_STACK_SIZE ((WP_BVH_WIDTH - 1) * WP_BVH_MAX_DEPTH)
 
