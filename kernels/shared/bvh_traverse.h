@@ -125,7 +125,17 @@ WP_FN float wp_safe_rcp(float d) { return 1.0f / copysign(min(max(fabs(d), FLT_M
 
 WP_FN BoxRay wp_box_ray(Ray ray) {
     BoxRay b;
+#if defined(WP_OPENCL)
+    // The three reciprocals as one four-lane divide, each lane correctly rounded, so the
+    // same bits as wp_safe_rcp per component; the spare lane divides 1 by 1 (no denormal).
+    // LLVM 15 packed only one of this and wp_tri_ray's three divides itself, and left the
+    // other three scalar (callgrind: -3.4 % of the closest-hit kernel's instructions).
+    float4 d = (float4)(ray.dir.x, ray.dir.y, ray.dir.z, 1.0f);
+    float4 rc = 1.0f / copysign(min(max(fabs(d), FLT_MIN), 0x1p126f), d);
+    float ix = rc.x, iy = rc.y, iz = rc.z;
+#else
     float ix = wp_safe_rcp(ray.dir.x), iy = wp_safe_rcp(ray.dir.y), iz = wp_safe_rcp(ray.dir.z);
+#endif
     b.ox = wp_wsplat(ray.org.x);
     b.oy = wp_wsplat(ray.org.y);
     b.oz = wp_wsplat(ray.org.z);
