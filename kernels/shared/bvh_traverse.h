@@ -11,7 +11,9 @@
 //     so near-first order is kept without storing it. After Áfra & Szirmay-Kalos,
 //     "Stackless Multi-BVH Traversal for CPU, MIC and GPU Ray Tracing", CGF 33(1), 2014.
 //     A ring of the WP_BVH_SHORT_STACK (4) most recent pending ancestors spares most climbs
-//     and re-tests (wp_trace_stackless); the order and the hits do not depend on it.
+//     and re-tests; the order and the hits do not depend on it. The generic walk
+//     (wp_trace_stackless, closest or any hit by a flag) is the host tests' oracle for
+//     wp_trace_closest and wp_trace_any, its two specialised forms that the kernels run.
 //   * wp_trace_closest_stack: the same order with a private stack of (child, entry t);
 //     the oracle and the speed reference for the stackless one.
 //   * wp_trace_any: stackless like wp_trace_closest, but children in slot order, and it
@@ -123,7 +125,17 @@ WP_FN float wp_safe_rcp(float d) { return 1.0f / copysign(min(max(fabs(d), FLT_M
 
 WP_FN BoxRay wp_box_ray(Ray ray) {
     BoxRay b;
+#if defined(WP_OPENCL)
+    // The three reciprocals as one four-lane divide, each lane correctly rounded, so the
+    // same bits as wp_safe_rcp per component; the spare lane divides 1 by 1 (no denormal).
+    // LLVM 15 packed only one of this and wp_tri_ray's three divides itself, and left the
+    // other three scalar (callgrind: -3.4 % of the closest-hit kernel's instructions).
+    float4 d = (float4)(ray.dir.x, ray.dir.y, ray.dir.z, 1.0f);
+    float4 rc = 1.0f / copysign(min(max(fabs(d), FLT_MIN), 0x1p126f), d);
+    float ix = rc.x, iy = rc.y, iz = rc.z;
+#else
     float ix = wp_safe_rcp(ray.dir.x), iy = wp_safe_rcp(ray.dir.y), iz = wp_safe_rcp(ray.dir.z);
+#endif
     b.ox = wp_wsplat(ray.org.x);
     b.oy = wp_wsplat(ray.org.y);
     b.oz = wp_wsplat(ray.org.z);
@@ -270,8 +282,8 @@ WP_FN Hit wp_miss(Ray ray) {
 }
 
 // Stackless traversal: closest hit (ordered; wp_trace_closest) or any hit (slot order,
-// early out). The kernels' any hit is wp_trace_any below, a specialised form of this walk;
-// the generic any_hit = 1 path stays as its oracle in the host tests.
+// early out). The kernels run wp_trace_closest and wp_trace_any below, specialised forms of
+// this walk; the generic one stays as their oracle in the host tests.
 //
 // A climb normally re-tests the ancestor's boxes to find the children it has left. A short
 // ring of the WP_BVH_SHORT_STACK most recent such ancestors (node, candidates left, entry
@@ -357,12 +369,89 @@ WP_FN Hit wp_trace_stackless(Ray ray, WP_GLOBAL const BvhNode* nodes,
     }
 }
 
-// Closest hit: the generic walk with any_hit = 0. A macro, not a wrapper function: with
-// the any-hit traversal separate, a wrapper would be wp_trace_stackless's only caller and
-// clang would inline it there, and the inlined struct return (sret, noalias) leaves an
-// llvm.experimental.noalias.scope.decl that Oclgrind 21.10 cannot run.
-#define wp_trace_closest(ray, nodes, links, tris, prim_ids, ...) \
-    wp_trace_stackless(ray, nodes, links, tris, prim_ids, 0, __VA_ARGS__)
+// Closest hit: the walk of wp_trace_stackless with any_hit = 0, specialised: each node's
+// boxes are tested where the walk arrives at it (on the way down, or after an up-link
+// climb, then with wp_after on the slot it came from), so the loop has no "resumed from the
+// ring" flag, no sc = -1 state and no any_hit selects; the cull distance is kept in a
+// variable that changes only with the closest hit. The same node tests, candidates and
+// order as the generic walk, so the same hits bit for bit (tested against it on the host).
+WP_FN Hit wp_trace_closest(Ray ray, WP_GLOBAL const BvhNode* nodes, WP_GLOBAL const BvhLinks* links,
+                           WP_GLOBAL const Triangle* tris, WP_GLOBAL const int* prim_ids,
+                           TraceStats* stats WP_ALPHA_PARAM) {
+    Hit hit = wp_miss(ray);
+    BoxRay br = wp_box_ray(ray);
+    TriRay tr = wp_tri_ray(ray);
+    float tcull = hit.t * WP_HIT_CULL_SCALE;
+    ulong bits = 0;  // bit k: the ancestor k + 1 levels above `cur` may have children left
+    int cur = 0;
+    int ring_node[WP_BVH_SHORT_STACK];
+    int ring_cand[WP_BVH_SHORT_STACK];
+    WpLanes ring_tn[WP_BVH_SHORT_STACK];
+    int ring_top = 0, ring_count = 0;  // the newest entry; how many entries are valid
+    WpLanes tn;
+    int cand = wp_intersect_node(&br, nodes, tcull, &tn);
+#if defined(WP_STATS)
+    stats->box_tests += WP_BVH_WIDTH;
+#endif
+    for (;;) {
+        // Children in order: leaves at once, the first interior child is descended into.
+        int next = -1;
+        while (cand != 0) {
+            int s = wp_nearest(tn, cand);
+            cand &= ~(1 << s);
+            int c = wp_child(nodes, cur, s);
+            if (c >= 0) {
+                next = c;
+                break;
+            }
+            if (wp_intersect_leaf(&tr, c, tris, prim_ids, &hit, stats WP_ALPHA_ARG)) {
+                // Drop the children that now start behind the closest hit.
+                tcull = hit.t * WP_HIT_CULL_SCALE;
+                cand &= wp_wmask_le(tn, wp_wsplat(tcull));
+            }
+        }
+        if (next >= 0) {
+            if (cand != 0) {
+                ring_top = (ring_top + 1) & (WP_BVH_SHORT_STACK - 1);
+                ring_node[ring_top] = cur;
+                ring_cand[ring_top] = cand;
+                ring_tn[ring_top] = tn;
+                ring_count = min(ring_count + 1, WP_BVH_SHORT_STACK);
+            }
+            bits = (bits << 1) | (cand != 0 ? 1u : 0u);
+            cur = next;
+            cand = wp_intersect_node(&br, nodes + cur, tcull, &tn);
+#if defined(WP_STATS)
+            stats->box_tests += WP_BVH_WIDTH;
+#endif
+            continue;
+        }
+        // Climb to the deepest ancestor that may have children left: from the ring, or by
+        // the up-links and a re-test.
+        if (bits == 0) return hit;
+        int k = wp_ctz64(bits);
+        bits = (bits >> k) >> 1;
+        if (ring_count > 0) {
+            cur = ring_node[ring_top];
+            tn = ring_tn[ring_top];
+            cand = ring_cand[ring_top] & wp_wmask_le(tn, wp_wsplat(tcull));
+            ring_top = (ring_top - 1) & (WP_BVH_SHORT_STACK - 1);
+            --ring_count;
+            continue;
+        }
+        int sc = 0;
+        for (int j = 0; j <= k; ++j) {
+            BvhLinks l = links[cur];
+            sc = l.slot;
+            cur = l.parent;
+        }
+        cand = wp_intersect_node(&br, nodes + cur, tcull, &tn);
+        cand &= wp_after(tn, sc);
+#if defined(WP_STATS)
+        stats->box_tests += WP_BVH_WIDTH;
+#endif
+    }
+}
 
 // Any hit: the same slot-order walk as wp_trace_stackless(any_hit = 1) (the same leaves in
 // the same order, so the same occlusion on every ray), specialised. Within the first leaf
