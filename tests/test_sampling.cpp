@@ -332,6 +332,15 @@ TEST_CASE("sampling: guided CDF pick equals a linear scan", "[unit][sampling]") 
         // Long zero runs between weights.
         for (int k = 0; k < n; ++k) w[k] = (k % 17 == 0 || rng.uniform() < 0.02f) ? rng.uniform() : 0.0;
         cdfs.push_back(prefix(w));
+        // Entries one float above or below the bucket edges (k + 1) / m.
+        int m = 1;
+        while (m < n) m <<= 1;
+        for (float dir : {2.0f, 0.0f}) {
+            std::vector<float> cdf(n);
+            for (int k = 0; k < n; ++k) cdf[k] = std::nextafter(float(k + 1) / float(m), dir);
+            cdf.back() = 1.0f;
+            cdfs.push_back(cdf);
+        }
     }
     long mismatches = 0, picks = 0, bad_tables = 0;
     for (const std::vector<float>& cdf : cdfs) {
