@@ -9,7 +9,7 @@
 //         material_tables (the per-material tables some kinds read at MaterialData.table,
 //         scene/material_tables.h; a one-float placeholder when no material has any);
 //         background radiance; with WP_HAVE_NEE the light table (lights.h): light_cdf,
-//         light_prims, light_pdf_area, light_count; the appearance arrays of the features
+//         light_guide, light_guide_size, light_prims, light_pdf_area, light_count; the appearance arrays of the features
 //         the scene has (else one-element placeholders): tri_normals (WP_HAVE_NORMALS), tri_uvs,
 //         material_textures and the texture pool (WP_HAVE_TEXTURES), tri_tangents
 //         (WP_HAVE_NORMAL_MAPS), the environment env, env_texels, env_marginal,
@@ -76,9 +76,11 @@
 // The light arrays of shade_surface, bundled for the helpers.
 typedef struct LightTable {
     WP_GLOBAL const float* cdf;
+    WP_GLOBAL const int* guide;  // guide_size + 1 entries (wp_light_pick)
     WP_GLOBAL const int* prims;
     WP_GLOBAL const float* pdf_area;
     int count;
+    int guide_size;
 } LightTable;
 
 // The appearance arrays of shade_surface (placeholders for features the scene lacks).
@@ -339,7 +341,7 @@ WP_FN int wp_shade_path(Ray ray, PathState path, Hit hit, WP_GLOBAL const Triang
         } else
 #endif
         {
-            int li = wp_light_pick(lights.cdf, lights.count, ul.z);
+            int li = wp_light_pick(lights.cdf, lights.guide, lights.guide_size, ul.z);
             lp = lights.prims[li];
             Triangle lt = tris[lp];
             l0 = wp_xyz(lt.v0), l1 = wp_xyz(lt.v1), l2 = wp_xyz(lt.v2);
@@ -468,7 +470,8 @@ WP_KERNEL void shade_surface(WP_GLOBAL const Ray* rays_in, WP_GLOBAL const PathS
                              WP_GLOBAL const int* material_ids,
                              WP_GLOBAL const MaterialData* materials,
                              WP_GLOBAL const float* material_tables, float4 background,
-                             WP_GLOBAL const float* light_cdf, WP_GLOBAL const int* light_prims,
+                             WP_GLOBAL const float* light_cdf, WP_GLOBAL const int* light_guide,
+                             int light_guide_size, WP_GLOBAL const int* light_prims,
                              WP_GLOBAL const float* light_pdf_area, int light_count,
                              WP_GLOBAL const TriNormals* tri_normals, WP_GLOBAL const TriUVs* tri_uvs,
                              WP_GLOBAL const TriTangents* tri_tangents,
@@ -494,6 +497,8 @@ WP_KERNEL void shade_surface(WP_GLOBAL const Ray* rays_in, WP_GLOBAL const PathS
 
     LightTable lights;
     lights.cdf = light_cdf;
+    lights.guide = light_guide;
+    lights.guide_size = light_guide_size;
     lights.prims = light_prims;
     lights.pdf_area = light_pdf_area;
     lights.count = light_count;

@@ -193,11 +193,13 @@ TEST_CASE("sampling: light triangles by power, points uniform on them (chi2)",
     const int n = 1000000, g = 10;
     auto& dev = test::device();
     ocl::Kernel k(probe_program(), "probe_light_sample", "probe.light");
-    cl::Buffer b_cdf = upload(lt.cdf), b_prims = upload(lt.prims), b_pdf = upload(lt.pdf_area);
+    REQUIRE(lt.guide.size() == 5);  // m = 4 buckets and the end
+    cl::Buffer b_cdf = upload(lt.cdf), b_guide = upload(lt.guide), b_prims = upload(lt.prims),
+               b_pdf = upload(lt.pdf_area);
     cl::Buffer b_light(dev.context, CL_MEM_READ_WRITE, n * sizeof(int));
     cl::Buffer b_point(dev.context, CL_MEM_READ_WRITE, n * sizeof(float4));
-    k.launch({&dev.queue}, n, b_cdf, b_prims, b_pdf, static_cast<int>(lt.size()), cl_uint(9), n,
-             b_light, b_point);
+    k.launch({&dev.queue}, n, b_cdf, b_guide, static_cast<int>(lt.guide.size() - 1), b_prims,
+             b_pdf, cl_uint(9), n, b_light, b_point);
     std::vector<int> li(n);
     std::vector<float4> pt(n);
     dev.queue.enqueueReadBuffer(b_light, CL_TRUE, 0, n * sizeof(int), li.data());
@@ -279,6 +281,99 @@ TEST_CASE("sampling: branch-free CDF pick equals the classic binary search", "[u
     }
     INFO(mismatches << " of " << picks << " picks differ");
     CHECK(mismatches == 0);
+}
+
+// The guided pick (a guide table, then wp_cdf_pick inside one bucket) must pick what the
+// plain definition picks, the first k with u < cdf[k] (n − 1 if none; a linear scan here),
+// for every u the bucket arithmetic could get wrong: on bucket edges j / m and their float
+// neighbours, on every cdf value and its neighbours, 0, just below 1, and out of [0, 1).
+// The CDFs are adversarial: runs of zero weights (equal entries, leading zeros), weights
+// over 60 decades, all weight on one entry, entries exactly on bucket edges, subnormal
+// entries, sizes around powers of two and veach-mis's 15,360.
+TEST_CASE("sampling: guided CDF pick equals a linear scan", "[unit][sampling]") {
+    auto scan = [](const std::vector<float>& cdf, float u) {
+        int n = int(cdf.size());
+        for (int k = 0; k < n; ++k)
+            if (u < cdf[k]) return k;
+        return n - 1;
+    };
+    auto prefix = [](const std::vector<double>& w) {
+        std::vector<float> cdf(w.size());
+        double sum = 0, acc = 0;
+        for (double x : w) sum += x;
+        for (std::size_t k = 0; k < w.size(); ++k) {
+            acc += w[k];
+            cdf[k] = sum > 0 ? float(acc / sum) : float(k + 1) / float(w.size());
+        }
+        cdf.back() = 1.0f;
+        return cdf;
+    };
+    test::Rng rng(1974);
+    std::vector<std::vector<float>> cdfs;
+    std::vector<int> sizes;
+    for (int n = 1; n <= 70; ++n) sizes.push_back(n);
+    for (int n : {127, 128, 129, 255, 256, 257, 1000, 1023, 1024, 1025, 4096, 15360})
+        sizes.push_back(n);
+    for (int n : sizes) {
+        std::vector<double> w(n);
+        for (double& x : w) x = rng.uniform() < 0.2f ? 0.0 : rng.uniform();  // zero runs
+        cdfs.push_back(prefix(w));
+        for (double& x : w) x = std::pow(10.0, 60.0 * rng.uniform() - 30.0);  // huge ratios
+        cdfs.push_back(prefix(w));
+        std::fill(w.begin(), w.end(), 0.0);  // one entry holds everything
+        w[std::size_t(rng.uniform() * n) % n] = 1.0;
+        cdfs.push_back(prefix(w));
+        for (int k = 0; k < n; ++k) w[k] = k < n / 2 ? 0.0 : 1.0;  // leading zeros
+        cdfs.push_back(prefix(w));
+        std::fill(w.begin(), w.end(), 1.0);  // uniform: on bucket edges when n is 2^i
+        cdfs.push_back(prefix(w));
+        for (int k = 0; k < n; ++k) w[k] = k + 1 < n ? 1e-45 * (k % 3) : 1.0;  // subnormals
+        cdfs.push_back(prefix(w));
+        // Long zero runs between weights.
+        for (int k = 0; k < n; ++k) w[k] = (k % 17 == 0 || rng.uniform() < 0.02f) ? rng.uniform() : 0.0;
+        cdfs.push_back(prefix(w));
+        // Entries one float above or below the bucket edges (k + 1) / m.
+        int m = 1;
+        while (m < n) m <<= 1;
+        for (float dir : {2.0f, 0.0f}) {
+            std::vector<float> cdf(n);
+            for (int k = 0; k < n; ++k) cdf[k] = std::nextafter(float(k + 1) / float(m), dir);
+            cdf.back() = 1.0f;
+            cdfs.push_back(cdf);
+        }
+    }
+    long mismatches = 0, picks = 0, bad_tables = 0;
+    for (const std::vector<float>& cdf : cdfs) {
+        const int n = int(cdf.size());
+        std::vector<int> guide = build_cdf_guide(cdf);
+        const int m = int(guide.size()) - 1;
+        // m: the least power of two >= n; entries in [0, n) and non-decreasing (in-bounds reads).
+        bool ok = m >= n && (m & (m - 1)) == 0 && (m == 1 || m / 2 < n) && guide[0] == 0 &&
+                  guide[m] == n - 1;
+        for (int j = 0; j < m; ++j) ok = ok && guide[j] >= 0 && guide[j] <= guide[j + 1];
+        bad_tables += !ok;
+        if (!ok) continue;
+        std::vector<float> us = {0.0f, -0.0f, 0x1.fffffep-1f, 1.0f, 1.5f, -0.25f, -1e-30f,
+                                 INFINITY, -INFINITY, 1e-45f};
+        for (int j = 0; j <= m; ++j) {
+            float e = float(j) / float(m);
+            us.insert(us.end(), {e, std::nextafter(e, 0.0f), std::nextafter(e, 2.0f)});
+        }
+        for (int k = 0; k < n; ++k)
+            us.insert(us.end(), {cdf[k], std::nextafter(cdf[k], 0.0f), std::nextafter(cdf[k], 2.0f)});
+        for (int i = 0; i < 200; ++i) us.push_back(rng.uniform());
+        for (float u : us) {
+            ++picks;
+            if (wp_cdf_pick_guided(cdf.data(), guide.data(), m, u) != scan(cdf, u)) ++mismatches;
+        }
+        int nan_pick = wp_cdf_pick_guided(cdf.data(), guide.data(), m, NAN);
+        bad_tables += nan_pick < 0 || nan_pick >= n;  // NaN: any light, but a light
+    }
+    INFO(mismatches << " of " << picks << " picks differ; " << bad_tables << " bad tables of "
+                    << cdfs.size());
+    CHECK(bad_tables == 0);
+    CHECK(mismatches == 0);
+    CHECK(build_cdf_guide({}).empty());
 }
 
 TEST_CASE("sampling: densities integrate to 1 (quadrature of the shared code)", "[unit][sampling]") {

@@ -18,6 +18,7 @@
 #include <glm/glm.hpp>
 
 #include "render/stages/shade.h"
+#include "scene/upload.h"
 #include "shared/types.h"
 #include "chi2.h"
 #include "support.h"
@@ -95,6 +96,9 @@ ShadeOut run_shade(const ShadeCase& c) {
     scene.materials = ocl::Array<MaterialData>::upload(dev, c.materials, "materials");
     scene.background = c.background;
     scene.light_cdf = ocl::Array<float>::upload(dev, c.light_cdf, "light cdf");
+    const std::vector<int> guide = build_cdf_guide(c.light_cdf);
+    scene.light_guide = ocl::Array<int>::upload(dev, guide, "light guide");
+    scene.light_guide_size = static_cast<int>(guide.size()) - 1;
     scene.light_prims = ocl::Array<int>::upload(dev, c.light_prims, "light prims");
     scene.light_pdf_area = ocl::Array<float>::upload(dev, c.light_pdf_area, "light pdf");
     scene.light_count = static_cast<int>(c.light_prims.size());

@@ -40,6 +40,23 @@ WP_FN int wp_cdf_pick(WP_GLOBAL const float* cdf, int n, float u) {
     return base;
 }
 
+// wp_cdf_pick in O(1) expected steps with a guide table (the cutpoint method: Chen & Asau,
+// 1974; Devroye, "Non-Uniform Random Variate Generation", 1986, §III.2.4). m is a power of
+// two <= 2^24 and guide[j] (j = 0 .. m) the first k with cdf[k] > j / m, n − 1 if none
+// (guide[0] = 0; the host's wp::build_cdf_guide). Same index as wp_cdf_pick for every
+// u that is not NaN: u m is exact (a power-of-two scale of a float), so j = floor(u m)
+// puts u in [j / m, (j + 1) / m) exactly; cdf[k] <= j / m <= u for every k < guide[j], and
+// u < (j + 1) / m < cdf[guide[j + 1]] unless guide[j + 1] = n − 1. The answer is thus in
+// [guide[j], guide[j + 1]], where wp_cdf_pick on that bracket finds it. u < 0 takes j = 0
+// (bracket from 0), u >= 1 j = m − 1 (bracket up to n − 1); NaN some index in [0, n).
+// Prefix sums put about n / m entries in the bucket u falls in, on average over u.
+WP_FN int wp_cdf_pick_guided(WP_GLOBAL const float* cdf, WP_GLOBAL const int* guide, int m,
+                             float u) {
+    int j = (int)fmin(fmax(u * (float)m, 0.0f), (float)(m - 1));
+    int lo = guide[j], hi = guide[j + 1];
+    return lo + wp_cdf_pick(cdf + lo, hi - lo + 1, u);
+}
+
 #define WP_PI 3.14159265358979323846f
 #define WP_INV_PI 0.31830988618379067154f
 #define WP_INV_2PI 0.15915494309189533577f

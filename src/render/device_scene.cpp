@@ -96,10 +96,13 @@ DeviceScene DeviceScene::upload(const ocl::Device& dev, const Scene& scene, cons
     s.light_count = static_cast<int>(lights.size());
     if (lights.size() > 0) {
         s.light_cdf = ocl::Array<float>::upload(dev, lights.cdf, "the light CDF");
+        s.light_guide = ocl::Array<int>::upload(dev, lights.guide, "the light CDF's guide table");
+        s.light_guide_size = static_cast<int>(lights.guide.size()) - 1;
         s.light_prims = ocl::Array<int>::upload(dev, lights.prims, "the light triangles");
         s.light_pdf_area = ocl::Array<float>::upload(dev, lights.pdf_area, "the light densities");
     } else {
         s.light_cdf = ocl::Array<float>::zeros(dev, 0, "a placeholder");
+        s.light_guide = ocl::Array<int>::zeros(dev, 0, "a placeholder");
         s.light_prims = ocl::Array<int>::zeros(dev, 0, "a placeholder");
         s.light_pdf_area = ocl::Array<float>::zeros(dev, 0, "a placeholder");
     }
@@ -163,7 +166,7 @@ DeviceScene DeviceScene::upload(const ocl::Device& dev, const Scene& scene, cons
 
     st.scene_bytes = d.bvh.bytes + s.tris.bytes() + s.tri_frames.bytes() + s.material_ids.bytes() + s.materials.bytes() +
                      s.material_tables.bytes() +
-                     s.light_cdf.bytes() + s.light_prims.bytes() + s.light_pdf_area.bytes() +
+                     s.light_cdf.bytes() + s.light_guide.bytes() + s.light_prims.bytes() + s.light_pdf_area.bytes() +
                      st.texture_bytes + st.attribute_bytes + st.env_bytes;
     st.upload_ms = timer.ms();
     return d;

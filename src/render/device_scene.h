@@ -48,6 +48,8 @@ struct ShadingScene {
     float4 background{0, 0, 0, 0};    // xyz: radiance of escaped rays
     // NEE light table (kernels/shared/lights.h); placeholders without NEE.
     ocl::Array<float> light_cdf;
+    ocl::Array<int> light_guide;  // guide table of light_cdf (scene/upload: build_cdf_guide)
+    int light_guide_size = 0;     // its m: light_guide has m + 1 entries
     ocl::Array<int> light_prims;
     ocl::Array<float> light_pdf_area;
     int light_count = 0;

@@ -165,6 +165,23 @@ AppearanceUpload upload_appearance(const Scene& scene, const AppearanceNeeds& ne
     return up;
 }
 
+std::vector<int> build_cdf_guide(const std::vector<float>& cdf) {
+    const std::size_t n = cdf.size();
+    if (n == 0) return {};
+    std::size_t m = 1;
+    while (m < n && m < (std::size_t{1} << 24)) m <<= 1;
+    std::vector<int> guide(m + 1);
+    std::size_t k = 0;
+    for (std::size_t j = 0; j <= m; ++j) {
+        // j / m is exact in double and in float (m <= 2^24), and so is each comparison.
+        const double edge = static_cast<double>(j) / static_cast<double>(m);
+        while (k < n && !(static_cast<double>(cdf[k]) > edge)) ++k;
+        guide[j] = static_cast<int>(k < n ? k : n - 1);
+    }
+    guide[0] = 0;  // u < 0 (never drawn) picks 0 as the binary search does
+    return guide;
+}
+
 LightTable build_light_table(const Scene& scene) {
     LightTable lt;
     lt.pdf_area.assign(scene.triangles.size(), 0.0f);
@@ -187,6 +204,7 @@ LightTable build_light_table(const Scene& scene) {
         run += power[k];
         lt.cdf.push_back(k + 1 == power.size() ? 1.0f : static_cast<float>(run / lt.total_power));
     }
+    lt.guide = build_cdf_guide(lt.cdf);
     for (std::size_t k = 0; k < lt.prims.size(); ++k) {
         float p = lt.cdf[k] - (k > 0 ? lt.cdf[k - 1] : 0.0f);
         lt.pdf_area[lt.prims[k]] = static_cast<float>(p / area[k]);

@@ -31,6 +31,7 @@ struct SceneUpload {
 // area × luminance(Le) (Rec. 709 luminance; one-sided emitters, so the factor π cancels).
 struct LightTable {
     std::vector<float> cdf;       // inclusive cumulative probabilities, last exactly 1
+    std::vector<int> guide;       // build_cdf_guide(cdf): the device's O(1) light pick
     std::vector<int> prims;       // triangle (scene order) of each light
     std::vector<float> pdf_area;  // per scene triangle: P(choose it) / its area; 0 if no light
     double total_power = 0.0;     // sum of area × luminance, for reports
@@ -59,6 +60,12 @@ struct AppearanceUpload {
 
 // Throws wp::Error for an environment or texture index out of range.
 AppearanceUpload upload_appearance(const Scene& scene, const AppearanceNeeds& needs);
+
+// The guide table of wp_cdf_pick_guided (kernels/shared/sampling.h) for a non-decreasing
+// cdf of n >= 1 entries: m + 1 entries for m = the least power of two >= n (at most 2^24),
+// guide[j] = the first k with cdf[k] > j / m (n − 1 if none) and guide[0] = 0; its size()
+// − 1 is m. Empty for an empty cdf.
+std::vector<int> build_cdf_guide(const std::vector<float>& cdf);
 
 // Empty (no lights) when nothing emits. The probability of light k is taken as the float
 // difference cdf[k] - cdf[k - 1], which is exactly what the device's binary search draws.
