@@ -9,9 +9,9 @@
 //         material_tables (the per-material tables some kinds read at MaterialData.table,
 //         scene/material_tables.h; a one-float placeholder when no material has any);
 //         background radiance; with WP_HAVE_NEE the light table (lights.h): light_cdf,
-//         light_guide, light_guide_size, light_prims, light_pdf_area, light_count; the appearance arrays of the features
-//         the scene has (else one-element placeholders): tri_normals (WP_HAVE_NORMALS), tri_uvs,
-//         material_textures and the texture pool (WP_HAVE_TEXTURES), tri_tangents
+//         light_guide, light_guide_size, light_prims, light_pdf_area, light_count; the
+//         appearance arrays of the features the scene has (else one-element placeholders):
+//         tri_normals (WP_HAVE_NORMALS), tri_uvs, material_textures and the texture pool (WP_HAVE_TEXTURES), tri_tangents
 //         (WP_HAVE_NORMAL_MAPS), the environment env, env_texels, env_marginal,
 //         env_conditional and env_distance (WP_HAVE_ENV); cone_spread (the camera's spread
 //         angle per pixel, for ray cones), seed, bounce (this bounce's index, the same for
