@@ -341,7 +341,7 @@ WP_FN int wp_shade_path(Ray ray, PathState path, Hit hit, WP_GLOBAL const Triang
         } else
 #endif
         {
-            int li = wp_light_pick(lights.cdf, lights.guide, lights.guide_size, ul.z);
+            int li = wp_light_pick(lights.cdf, lights.count, lights.guide, lights.guide_size, ul.z);
             lp = lights.prims[li];
             Triangle lt = tris[lp];
             l0 = wp_xyz(lt.v0), l1 = wp_xyz(lt.v1), l2 = wp_xyz(lt.v2);

@@ -29,14 +29,15 @@ WP_KERNEL void probe_bsdf_sample(MaterialData m, float4 d, float4 ns, int front,
 // reads   tris (scene order), the light table (lights.h), seed
 // writes  light[i] = the chosen light index k, point[i] = (b1, b2, pdf_area, 0): the
 //         barycentrics of the point on triangle light_prims[k], for i < n
-WP_KERNEL void probe_light_sample(WP_GLOBAL const float* light_cdf, WP_GLOBAL const int* light_guide,
+WP_KERNEL void probe_light_sample(WP_GLOBAL const float* light_cdf, int light_count,
+                                 WP_GLOBAL const int* light_guide,
                                  int light_guide_size, WP_GLOBAL const int* light_prims,
                                  WP_GLOBAL const float* light_pdf_area, uint seed, int n,
                                  WP_GLOBAL int* light, WP_GLOBAL float4* point) {
     int i = wp_global_id();
     if (i >= n) return;
     float4 ul = wp_rng4(seed, (uint)i, 0u, 0u, WP_RNG_LIGHT);
-    int k = wp_light_pick(light_cdf, light_guide, light_guide_size, ul.z);
+    int k = wp_light_pick(light_cdf, light_count, light_guide, light_guide_size, ul.z);
     float2 b = wp_sample_triangle_barycentric(ul.x, ul.y);
     light[i] = k;
     point[i] = make_float4(b.x, b.y, light_pdf_area[light_prims[k]], 0.0f);

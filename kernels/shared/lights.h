@@ -5,7 +5,8 @@
 // emitters: the power is π · area · Le, the constant π cancels). The kernels get
 //   light_cdf[k]      float, inclusive cumulative probability of lights 0..k (last = 1)
 //   light_guide[j]    int, j = 0 .. guide_size: the guide table of light_cdf
-//                     (sampling.h: wp_cdf_pick_guided); guide_size a power of two >= count
+//                     (sampling.h: wp_cdf_pick_guided); guide_size a power of two >= count,
+//                     or 0 (no table) below WP_LIGHT_GUIDE_MIN lights
 //   light_prims[k]    int, the triangle (scene order) of light k
 //   light_pdf_area[t] float per triangle (scene order): P(choose t) / area(t), the density
 //                     of the light point per unit area; 0 for triangles that are no light
@@ -20,13 +21,19 @@
 
 WP_NAMESPACE_BEGIN
 
-// The light whose CDF interval holds u in [0, 1): the first k with u < cdf[k] (n − 1 if
-// none), found from the guide table in O(1) expected steps: the same index as the binary
-// search wp_cdf_pick. On veach-mis (15,360 light triangles) the search's 14 dependent steps
-// were 15 % of shade's samples.
-WP_FN int wp_light_pick(WP_GLOBAL const float* cdf, WP_GLOBAL const int* guide, int guide_size,
-                        float u) {
-    return wp_cdf_pick_guided(cdf, guide, guide_size, u);
+// Light tables of at least this many lights get a guide table (scene/upload.cpp); below,
+// the search alone is as quick (its steps are few, the guide's loads are extra).
+#define WP_LIGHT_GUIDE_MIN 64
+
+// The light whose CDF interval holds u in [0, 1) among n: the first k with u < cdf[k]
+// (n − 1 if none). With a guide table (guide_size > 0: the host builds one from
+// WP_LIGHT_GUIDE_MIN lights on) in O(1) expected steps, else by the search itself; the same
+// index either way. On veach-mis (15,360 light triangles) the search's 14 dependent steps
+// were 15 % of shade's samples; for the built-in box's 2 the guide's two extra dependent
+// loads made shade 7 % slower (measured), hence the threshold.
+WP_FN int wp_light_pick(WP_GLOBAL const float* cdf, int n, WP_GLOBAL const int* guide,
+                        int guide_size, float u) {
+    return guide_size > 0 ? wp_cdf_pick_guided(cdf, guide, guide_size, u) : wp_cdf_pick(cdf, n, u);
 }
 
 // Barycentric weights (b1, b2) of a uniform point on a triangle from u1, u2 in [0, 1);

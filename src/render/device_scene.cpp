@@ -96,8 +96,12 @@ DeviceScene DeviceScene::upload(const ocl::Device& dev, const Scene& scene, cons
     s.light_count = static_cast<int>(lights.size());
     if (lights.size() > 0) {
         s.light_cdf = ocl::Array<float>::upload(dev, lights.cdf, "the light CDF");
-        s.light_guide = ocl::Array<int>::upload(dev, lights.guide, "the light CDF's guide table");
-        s.light_guide_size = static_cast<int>(lights.guide.size()) - 1;
+        if (!lights.guide.empty()) {
+            s.light_guide = ocl::Array<int>::upload(dev, lights.guide, "the light CDF's guide table");
+            s.light_guide_size = static_cast<int>(lights.guide.size()) - 1;
+        } else {
+            s.light_guide = ocl::Array<int>::zeros(dev, 0, "a placeholder");  // size 0: no table
+        }
         s.light_prims = ocl::Array<int>::upload(dev, lights.prims, "the light triangles");
         s.light_pdf_area = ocl::Array<float>::upload(dev, lights.pdf_area, "the light densities");
     } else {

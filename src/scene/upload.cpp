@@ -6,6 +6,7 @@
 
 #include "scene/material_tables.h"
 #include "scene/normals.h"
+#include "shared/lights.h"
 #include "util/error.h"
 
 namespace wp {
@@ -204,7 +205,7 @@ LightTable build_light_table(const Scene& scene) {
         run += power[k];
         lt.cdf.push_back(k + 1 == power.size() ? 1.0f : static_cast<float>(run / lt.total_power));
     }
-    lt.guide = build_cdf_guide(lt.cdf);
+    if (lt.cdf.size() >= WP_LIGHT_GUIDE_MIN) lt.guide = build_cdf_guide(lt.cdf);
     for (std::size_t k = 0; k < lt.prims.size(); ++k) {
         float p = lt.cdf[k] - (k > 0 ? lt.cdf[k - 1] : 0.0f);
         lt.pdf_area[lt.prims[k]] = static_cast<float>(p / area[k]);

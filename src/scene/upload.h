@@ -31,7 +31,7 @@ struct SceneUpload {
 // area × luminance(Le) (Rec. 709 luminance; one-sided emitters, so the factor π cancels).
 struct LightTable {
     std::vector<float> cdf;       // inclusive cumulative probabilities, last exactly 1
-    std::vector<int> guide;       // build_cdf_guide(cdf): the device's O(1) light pick
+    std::vector<int> guide;       // build_cdf_guide(cdf) from WP_LIGHT_GUIDE_MIN lights on, else empty
     std::vector<int> prims;       // triangle (scene order) of each light
     std::vector<float> pdf_area;  // per scene triangle: P(choose it) / its area; 0 if no light
     double total_power = 0.0;     // sum of area × luminance, for reports
