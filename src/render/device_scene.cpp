@@ -168,9 +168,9 @@ DeviceScene DeviceScene::upload(const ocl::Device& dev, const Scene& scene, cons
                               static_cast<float>(height));
     d.warnings = std::move(app.warnings);
 
-    st.scene_bytes = d.bvh.bytes + s.tris.bytes() + s.tri_frames.bytes() + s.material_ids.bytes() + s.materials.bytes() +
-                     s.material_tables.bytes() +
-                     s.light_cdf.bytes() + s.light_guide.bytes() + s.light_prims.bytes() + s.light_pdf_area.bytes() +
+    st.scene_bytes = d.bvh.bytes + s.tris.bytes() + s.tri_frames.bytes() + s.material_ids.bytes() +
+                     s.materials.bytes() + s.material_tables.bytes() + s.light_cdf.bytes() +
+                     s.light_guide.bytes() + s.light_prims.bytes() + s.light_pdf_area.bytes() +
                      st.texture_bytes + st.attribute_bytes + st.env_bytes;
     st.upload_ms = timer.ms();
     return d;
