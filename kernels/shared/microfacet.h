@@ -135,16 +135,11 @@ WP_FN float wp_mf_g1(Microfacet mf, float3 w) {
     return 1.0f / (1.0f + wp_mf_lambda(mf, w));
 }
 
-// G(wo, wi) for directions on the normal's side (callers flip transmitted directions).
-WP_FN float wp_mf_g(Microfacet mf, float3 wo, float3 wi) {
-    if (mf.separable) return wp_mf_g1(mf, wo) * wp_mf_g1(mf, wi);
-    return 1.0f / (1.0f + wp_mf_lambda(mf, wo) + wp_mf_lambda(mf, wi));
-}
-
-// The same two with Λ(wo) and D(h) passed in, for callers that need them more than once at
-// one vertex (each is an erf and exps for Beckmann): equal bit for bit to wp_mf_g and
-// wp_mf_pdf_vndf given lambda_o = wp_mf_lambda(mf, wo), g1 = wp_mf_g1(mf, w), d = wp_mf_d(mf, h),
-// for wo_z > 0 and w_z > 0.
+// G(wo, wi) and the visible-normal density (wp_mf_pdf_vndf, below) with Λ(wo), G1(w) and
+// D(h) passed in, for callers that need them more than once at one vertex (each is an erf and
+// exps for Beckmann): equal bit for bit to wp_mf_g and wp_mf_pdf_vndf given lambda_o =
+// wp_mf_lambda(mf, wo), g1 = wp_mf_g1(mf, w), d = wp_mf_d(mf, h), for wo_z > 0 and w_z > 0.
+// Those two are written with these, so the formulas live here once.
 WP_FN float wp_mf_g_lo(Microfacet mf, float lambda_o, float3 wi) {
     if (mf.separable) return (1.0f / (1.0f + lambda_o)) * wp_mf_g1(mf, wi);
     return 1.0f / (1.0f + lambda_o + wp_mf_lambda(mf, wi));
@@ -152,6 +147,13 @@ WP_FN float wp_mf_g_lo(Microfacet mf, float lambda_o, float3 wi) {
 
 WP_FN float wp_mf_pdf_vndf_gd(float g1, float3 w, float3 h, float d) {
     return g1 * max(0.0f, dot(w, h)) * d / w.z;
+}
+
+// G(wo, wi) for directions on the normal's side (callers flip transmitted directions).
+// Separable: G1(wo) G1(wi), which is 0 for wo_z <= 0 (wp_mf_g1's test, not in wp_mf_g_lo).
+WP_FN float wp_mf_g(Microfacet mf, float3 wo, float3 wi) {
+    if (mf.separable) return wp_mf_g1(mf, wo) * wp_mf_g1(mf, wi);
+    return wp_mf_g_lo(mf, wp_mf_lambda(mf, wo), wi);
 }
 
 // ln(x) for normal, finite x > 0 (no zero, denormal, infinity or NaN handling), inline: Cephes'
@@ -286,7 +288,7 @@ WP_FN float3 wp_mf_sample_vndf(Microfacet mf, float3 w, float u1, float u2) {
 // The density of wp_mf_sample_vndf: D_w(h) = G1(w) max(0, w·h) D(h) / w_z.
 WP_FN float wp_mf_pdf_vndf(Microfacet mf, float3 w, float3 h) {
     if (!(w.z > 0.0f)) return 0.0f;
-    return wp_mf_g1(mf, w) * max(0.0f, dot(w, h)) * wp_mf_d(mf, h) / w.z;
+    return wp_mf_pdf_vndf_gd(wp_mf_g1(mf, w), w, h, wp_mf_d(mf, h));
 }
 
 // Fresnel reflectance of a conductor with complex index of refraction η + i k (per channel,
