@@ -96,19 +96,20 @@ DeviceScene DeviceScene::upload(const ocl::Device& dev, const Scene& scene, cons
     s.light_count = static_cast<int>(lights.size());
     if (lights.size() > 0) {
         s.light_cdf = ocl::Array<float>::upload(dev, lights.cdf, "the light CDF");
-        if (!lights.guide.empty()) {
-            s.light_guide = ocl::Array<int>::upload(dev, lights.guide, "the light CDF's guide table");
-            s.light_guide_size = static_cast<int>(lights.guide.size()) - 1;
-        } else {
-            s.light_guide = ocl::Array<int>::zeros(dev, 0, "a placeholder");  // size 0: no table
-        }
         s.light_prims = ocl::Array<int>::upload(dev, lights.prims, "the light triangles");
         s.light_pdf_area = ocl::Array<float>::upload(dev, lights.pdf_area, "the light densities");
     } else {
         s.light_cdf = ocl::Array<float>::zeros(dev, 0, "a placeholder");
-        s.light_guide = ocl::Array<int>::zeros(dev, 0, "a placeholder");
         s.light_prims = ocl::Array<int>::zeros(dev, 0, "a placeholder");
         s.light_pdf_area = ocl::Array<float>::zeros(dev, 0, "a placeholder");
+    }
+    // The light pick's guide table (below WP_LIGHT_GUIDE_MIN lights, or without lights, none:
+    // size 0 tells the kernel to search the CDF directly).
+    if (!lights.guide.empty()) {
+        s.light_guide = ocl::Array<int>::upload(dev, lights.guide, "the light CDF's guide table");
+        s.light_guide_size = static_cast<int>(lights.guide.size()) - 1;
+    } else {
+        s.light_guide = ocl::Array<int>::zeros(dev, 0, "a placeholder");
     }
     // Appearance: what the kernels were configured for. A switch on for a feature the
     // scene lacks (the generic build, KernelConfig::with_every_feature()) reads neutral data
