@@ -567,3 +567,339 @@ WP_KERNEL void shade_triangle_frames(WP_GLOBAL const Triangle* tris, int count,
     Triangle tri = tris[t];
     tri_frames[t] = wp_triangle_frame(wp_xyz(tri.v0), wp_xyz(tri.v1), wp_xyz(tri.v2));
 }
+
+#if WP_SHADE_LANES
+// ---------------------------------------------------------------------------------------
+// shade_surface8 — shade_surface for eight paths per work-item (shared/lanes.h explains
+// why: PoCL runs shade_surface one path at a time). Same arguments, same contract and the
+// same numbers per path; the host launches it with one work-item per eight queue entries
+// (work-item w: entries 8 w .. 8 w + 7) where KernelConfig::shade_lanes() says it models
+// the scene: the kinds, features and debug switches it has no lane code for are refused
+// here at compile time.
+#if WP_HAVE_MIRROR || WP_HAVE_GLOSSY || WP_HAVE_GLASS || WP_HAVE_CONDUCTOR ||            \
+    WP_HAVE_ROUGH_CONDUCTOR || WP_HAVE_ROUGH_DIELECTRIC || WP_HAVE_THIN_DIELECTRIC ||     \
+    WP_HAVE_PLASTIC || WP_HAVE_ROUGH_PLASTIC || WP_HAVE_NORMALS || WP_HAVE_TEXTURES ||    \
+    WP_HAVE_NORMAL_MAPS || WP_HAVE_ENV || WP_HAVE_ANISOTROPY || WP_INJECT_NAN
+#error "shade_surface8 models diffuse triangles without appearance features (KernelConfig::shade_lanes)"
+#endif
+#include "shared/lanes.h"
+
+// The four numbers of wp_rng4 for eight keys (lane by lane).
+WP_FN void wp_rng4_lanes(uint seed, uint8 pixel, uint8 sample, uint bounce, uint group,
+                         float8* x, float8* y, float8* z, float8* w) {
+    uint pa[8], sa[8];
+    float xa[8], ya[8], za[8], wa[8];
+    vstore8(pixel, 0, pa);
+    vstore8(sample, 0, sa);
+#pragma unroll
+    for (int l = 0; l < 8; ++l) {
+        float4 u = wp_rng4(seed, pa[l], sa[l], bounce, group);
+        xa[l] = u.x, ya[l] = u.y, za[l] = u.z, wa[l] = u.w;
+    }
+    *x = vload8(0, xa), *y = vload8(0, ya), *z = vload8(0, za), *w = vload8(0, wa);
+}
+
+// Counts the lanes of mask m in counters[WP_COUNTER_SHADE_NONFINITE].
+WP_FN void wp_count_nonfinite8(int8 m, WP_GLOBAL int* counters) {
+    int n = popcount(wp_lane_bits(m));
+    if (n > 0) wp_atomic_add(&counters[WP_COUNTER_SHADE_NONFINITE], n);
+}
+
+// Adds lane l of c to radiance[item[l]] for the lanes of mask m (wp_add_radiance).
+WP_FN void wp_add_radiance8(WP_GLOBAL float4* radiance, const int* item, int8 m, L3 c,
+                            WP_GLOBAL int* counters) {
+    int bits = wp_lane_bits(m);
+    if (bits == 0) return;
+    float cx[8], cy[8], cz[8];
+    vstore8(c.x, 0, cx);
+    vstore8(c.y, 0, cy);
+    vstore8(c.z, 0, cz);
+#pragma unroll
+    for (int l = 0; l < 8; ++l)
+        if (bits & (1 << l)) wp_add_radiance(radiance, item[l], make_float3(cx[l], cy[l], cz[l]), counters);
+}
+
+WP_KERNEL void shade_surface8(WP_GLOBAL const Ray* rays_in, WP_GLOBAL const PathState* paths_in,
+                              WP_GLOBAL const int* count_in, WP_GLOBAL const Hit* hits,
+                              WP_GLOBAL const Triangle* tris, WP_GLOBAL const float4* tri_frames,
+                              WP_GLOBAL const int* material_ids,
+                              WP_GLOBAL const MaterialData* materials,
+                              WP_GLOBAL const float* material_tables, float4 background,
+                              WP_GLOBAL const float* light_cdf, WP_GLOBAL const int* light_guide,
+                              int light_guide_size, WP_GLOBAL const int* light_prims,
+                              WP_GLOBAL const float* light_pdf_area, int light_count,
+                              WP_GLOBAL const TriNormals* tri_normals, WP_GLOBAL const TriUVs* tri_uvs,
+                              WP_GLOBAL const TriTangents* tri_tangents,
+                              WP_GLOBAL const MaterialTextures* material_textures,
+                              WP_GLOBAL const TextureData* textures,
+                              WP_GLOBAL const TextureView* texture_views,
+                              WP_GLOBAL const uint* texels8, WP_GLOBAL const float4* texelsf,
+                              EnvData env, WP_GLOBAL const float4* env_texels,
+                              WP_GLOBAL const float* env_marginal,
+                              WP_GLOBAL const float* env_conditional, float env_distance,
+                              float cone_spread, uint seed, int bounce, int max_depth,
+                              WP_GLOBAL float4* radiance,
+                              WP_GLOBAL int* counters, WP_GLOBAL Ray* rays_out,
+                              WP_GLOBAL PathState* paths_out, WP_GLOBAL int* count_out,
+                              WP_GLOBAL Ray* shadow_rays, WP_GLOBAL int* shadow_items,
+                              WP_GLOBAL float4* shadow_contrib, WP_GLOBAL int* shadow_count) {
+    (void)material_tables, (void)tri_normals, (void)tri_uvs, (void)tri_tangents;
+    (void)material_textures, (void)textures, (void)texture_views, (void)texels8, (void)texelsf;
+    (void)env_texels, (void)env_marginal, (void)env_conditional, (void)env_distance;
+    (void)cone_spread;
+    const int base = 8 * wp_global_id();
+    const int count = count_in[0];
+
+    // What each lane pushes, lane by lane (filled below for the lanes of push / shadow).
+    PathState ps[8];
+    int item[8];
+    float nox[8], noy[8], noz[8], ndx[8], ndy[8], ndz[8], nbx[8], nby[8], nbz[8], npdf[8];
+    float sox[8], soy[8], soz[8], sdx[8], sdy[8], sdz[8], stm[8], scx[8], scy[8], scz[8];
+    int push_bits = 0, shadow_bits = 0;
+    if (base < count) {
+        // Gather the lanes' queue entries (lanes past the queue repeat its last entry and
+        // stay inactive).
+        float dx[8], dy[8], dz[8], tx[8], ty[8], tz[8], tw[8], ht[8], hu[8], hv[8];
+        int prim_a[8], valid_a[8];
+        uint pixel_a[8], sample_a[8];
+#pragma unroll
+        for (int l = 0; l < 8; ++l) {
+            int i = min(base + l, count - 1);
+            valid_a[l] = base + l < count ? -1 : 0;
+            Ray r = rays_in[i];
+            PathState p = paths_in[i];
+            Hit h = hits[i];
+            ps[l] = p;
+            item[l] = p.item;
+            pixel_a[l] = (uint)p.pixel;
+            sample_a[l] = p.sample;
+            dx[l] = r.dir.x, dy[l] = r.dir.y, dz[l] = r.dir.z;
+            tx[l] = p.throughput.x, ty[l] = p.throughput.y, tz[l] = p.throughput.z;
+            tw[l] = p.throughput.w;
+            ht[l] = h.t, hu[l] = h.u, hv[l] = h.v;
+            prim_a[l] = h.prim;
+        }
+        const int8 valid = vload8(0, valid_a);
+        const int8 prim = vload8(0, prim_a);
+        const uint8 pixel = vload8(0, pixel_a), sample = vload8(0, sample_a);
+        const L3 d = l3(vload8(0, dx), vload8(0, dy), vload8(0, dz));
+        const float8 thr_w = vload8(0, tw);
+        L3 beta = l3(vload8(0, tx), vload8(0, ty), vload8(0, tz));
+        const int8 arrived_specular = bounce > 0 ? thr_w == 0.0f : (int8)(0);
+
+        // Entry guard: a path whose throughput is not finite ends here, counted.
+        const int8 finite = l3_all_finite(beta);
+        wp_count_nonfinite8(valid & ~finite, counters);
+        const int8 active = valid & finite;
+
+        // Escaped: the constant background (no environment in this kernel).
+        const int8 miss = active & (prim < 0);
+        wp_add_radiance8(radiance, item, miss, l3_mul(beta, l3_splat(background.x, background.y, background.z)), counters);
+        int8 alive = active & (prim >= 0);
+
+        // Surface: the triangle, its frame and material (misses read triangle 0, unused).
+        float v0x[8], v0y[8], v0z[8], v1x[8], v1y[8], v1z[8], v2x[8], v2y[8], v2z[8];
+        float nx[8], ny[8], nz[8], toff[8], ax[8], ay[8], az[8], ex[8], ey[8], ez[8], pa[8];
+#pragma unroll
+        for (int l = 0; l < 8; ++l) {
+            int t = max(prim_a[l], 0);
+            Triangle tri = tris[t];
+            float4 f = tri_frames[t];
+            int mid = material_ids[t];
+            float4 alb = materials[mid].albedo, em = materials[mid].emission;
+            v0x[l] = tri.v0.x, v0y[l] = tri.v0.y, v0z[l] = tri.v0.z;
+            v1x[l] = tri.v1.x, v1y[l] = tri.v1.y, v1z[l] = tri.v1.z;
+            v2x[l] = tri.v2.x, v2y[l] = tri.v2.y, v2z[l] = tri.v2.z;
+            nx[l] = f.x, ny[l] = f.y, nz[l] = f.z, toff[l] = f.w;
+            ax[l] = alb.x, ay[l] = alb.y, az[l] = alb.z;
+            ex[l] = em.x, ey[l] = em.y, ez[l] = em.z;
+#if WP_HAVE_NEE
+            pa[l] = light_pdf_area[t];
+#else
+            pa[l] = 0.0f;
+#endif
+        }
+        const L3 v0 = l3(vload8(0, v0x), vload8(0, v0y), vload8(0, v0z));
+        const L3 v1 = l3(vload8(0, v1x), vload8(0, v1y), vload8(0, v1z));
+        const L3 v2 = l3(vload8(0, v2x), vload8(0, v2y), vload8(0, v2z));
+        const L3 n = l3(vload8(0, nx), vload8(0, ny), vload8(0, nz));
+        const float8 tri_offset = vload8(0, toff);
+        const L3 albedo = l3(vload8(0, ax), vload8(0, ay), vload8(0, az));
+        const int8 front = l3_dot(d, n) < 0.0f;
+        const L3 dn = l3_scale(d, 1.0f / sqrt(l3_dot(d, d)));  // normalize(d)
+        const float p_env = wp_env_choice(light_count, env);
+
+#if WP_HAVE_EMISSION
+        // Emission of the front face, weighted against light sampling where that could have
+        // found this point too.
+        {
+            const L3 e = l3(vload8(0, ex), vload8(0, ey), vload8(0, ez));
+            const int8 emits = alive & front & (l3_max_component(e) > 0.0f);
+            if (wp_lane_bits(emits)) {
+                float8 w = 1.0f;
+#if WP_HAVE_NEE
+                float8 pdf_area = vload8(0, pa) * (1.0f - p_env);
+                int8 weighed = (bounce > 0 ? (int8)(-1) : (int8)(0)) & ~arrived_specular & (pdf_area > 0.0f);
+#if WP_SAMPLING == WP_SAMPLING_MIS
+                float8 dist = vload8(0, ht) * sqrt(l3_dot(d, d));
+                float8 p_light = wp_light_pdf_solid_angle8(pdf_area, dist * dist, -l3_dot(dn, n));
+                w = select(w, wp_power_heuristic8(thr_w, p_light), weighed);
+#else
+                w = select(w, (float8)(0.0f), weighed);
+#endif
+#endif
+                wp_add_radiance8(radiance, item, emits & (w > 0.0f), l3_scale(l3_mul(beta, e), w), counters);
+            }
+        }
+#endif
+        if (bounce >= max_depth) alive = (int8)(0);
+
+        if (wp_lane_bits(alive)) {
+            // ng: the geometric normal on the side the ray arrived from; ns = ng (no shading
+            // normals in this kernel).
+            const L3 ng = l3_select(l3_neg(n), n, front);
+            const L3 ns = ng;
+            L3 perr;
+            const L3 p = wp_hit_point8(v0, v1, v2, vload8(0, hu), vload8(0, hv), &perr);
+            const L3 org = wp_offset_ray_origin8(p, perr, ng, tri_offset);
+            const L3 org_below = wp_offset_ray_origin8(p, perr, l3_neg(ng), tri_offset);
+
+#if WP_HAVE_NEE
+            // Next-event estimation (diffuse is never specular): a point on a light chosen by
+            // power; the shadow stage adds the contribution when the segment is unoccluded.
+            if (light_count > 0) {
+                float8 ulx, uly, ulz, ulw;
+                wp_rng4_lanes(seed, pixel, sample, (uint)bounce, WP_RNG_LIGHT, &ulx, &uly, &ulz, &ulw);
+                float ulz_a[8];
+                vstore8(ulz, 0, ulz_a);
+                float l0x[8], l0y[8], l0z[8], l1x[8], l1y[8], l1z[8], l2x[8], l2y[8], l2z[8];
+                float lnx[8], lny[8], lnz[8], loff[8], lpa[8], lex[8], ley[8], lez[8];
+#pragma unroll
+                for (int l = 0; l < 8; ++l) {
+                    int li = wp_light_pick(light_cdf, light_count, light_guide, light_guide_size, ulz_a[l]);
+                    int lp = light_prims[li];
+                    Triangle lt = tris[lp];
+                    float4 lf = tri_frames[lp];
+                    float4 le = materials[material_ids[lp]].emission;
+                    l0x[l] = lt.v0.x, l0y[l] = lt.v0.y, l0z[l] = lt.v0.z;
+                    l1x[l] = lt.v1.x, l1y[l] = lt.v1.y, l1z[l] = lt.v1.z;
+                    l2x[l] = lt.v2.x, l2y[l] = lt.v2.y, l2z[l] = lt.v2.z;
+                    lnx[l] = lf.x, lny[l] = lf.y, lnz[l] = lf.z, loff[l] = lf.w;
+                    lpa[l] = light_pdf_area[lp];
+                    lex[l] = le.x, ley[l] = le.y, lez[l] = le.z;
+                }
+                const L3 ln = l3(vload8(0, lnx), vload8(0, lny), vload8(0, lnz));
+                // wp_sample_triangle_barycentric
+                const float8 s = sqrt(ulx);
+                L3 yerr;
+                const L3 y = wp_hit_point8(l3(vload8(0, l0x), vload8(0, l0y), vload8(0, l0z)),
+                                           l3(vload8(0, l1x), vload8(0, l1y), vload8(0, l1z)),
+                                           l3(vload8(0, l2x), vload8(0, l2y), vload8(0, l2z)),
+                                           uly * s, 1.0f - s, &yerr);
+                const L3 to = l3_sub(y, p);
+                const float8 dist2 = l3_dot(to, to);
+                const L3 wi = l3_scale(to, 1.0f / sqrt(dist2));
+                const float8 p_light = wp_light_pdf_solid_angle8(vload8(0, lpa) * (1.0f - p_env), dist2, -l3_dot(wi, ln));
+                // wp_bsdf_eval of a diffuse surface: albedo cos / π above it, else 0.
+                const float8 cos_i = l3_dot(wi, ns);
+                const int8 above = cos_i > 0.0f;
+#if WP_SAMPLING == WP_SAMPLING_UNIFORM
+                const float8 bsdf_pdf = select((float8)(0.0f), (float8)(WP_INV_2PI), above);
+#else
+                const float8 bsdf_pdf = select((float8)(0.0f), wp_cosine_hemisphere_pdf8(cos_i), above);
+#endif
+                const L3 fcos = l3_select(l3_splat(0.0f, 0.0f, 0.0f), l3_scale(albedo, cos_i * WP_INV_PI), above);
+                const int8 lit = alive & (p_light > 0.0f) & (l3_max_component(fcos) > 0.0f);
+                if (wp_lane_bits(lit)) {
+#if WP_SAMPLING == WP_SAMPLING_MIS
+                    const float8 w = wp_power_heuristic8(p_light, bsdf_pdf);
+#else
+                    const float8 w = 1.0f;
+#endif
+                    const L3 le = l3(vload8(0, lex), vload8(0, ley), vload8(0, lez));
+                    const L3 c = l3_scale(l3_mul(l3_mul(beta, fcos), le), w / p_light);
+                    const int8 c_finite = l3_all_finite(c);
+                    wp_count_nonfinite8(lit & ~c_finite, counters);
+                    const int8 shadow = lit & c_finite & (l3_max_component(c) > 0.0f);
+                    // From the origin offset to the side the light is on, towards the light
+                    // point, ending short of it (offset.h).
+                    const L3 so = l3_select(org_below, org, l3_dot(wi, ng) > 0.0f);
+                    const L3 sd = l3_sub(y, so);
+                    const float8 tmax = wp_shadow_tmax8(sd, yerr, ln, vload8(0, loff));
+                    shadow_bits = wp_lane_bits(shadow);
+                    vstore8(so.x, 0, sox), vstore8(so.y, 0, soy), vstore8(so.z, 0, soz);
+                    vstore8(sd.x, 0, sdx), vstore8(sd.y, 0, sdy), vstore8(sd.z, 0, sdz);
+                    vstore8(tmax, 0, stm);
+                    vstore8(c.x, 0, scx), vstore8(c.y, 0, scy), vstore8(c.z, 0, scz);
+                }
+            }
+#endif
+
+            // Scatter: a diffuse direction around ns (wp_diffuse_sample).
+            float8 ux, uy, uz, uw;
+            wp_rng4_lanes(seed, pixel, sample, (uint)bounce, WP_RNG_BSDF, &ux, &uy, &uz, &uw);
+#if WP_SAMPLING == WP_SAMPLING_UNIFORM
+            const L3 lv = wp_sample_uniform_hemisphere8(ux, uy);
+            const L3 weight = l3_scale(albedo, 2.0f * lv.z);
+            const float8 pdf = WP_INV_2PI;
+#else
+            const L3 lv = wp_sample_cosine_hemisphere8(ux, uy);
+            const L3 weight = albedo;
+            const float8 pdf = wp_cosine_hemisphere_pdf8(lv.z);
+#endif
+            const L3 wo = wp_to_world8(lv, ns);
+            alive &= pdf > 0.0f;  // a zero-density draw (measure zero): absorbed
+            beta = l3_mul(beta, weight);
+            const int8 scatter_finite = l3_all_finite(beta) & l3_all_finite(wo);
+            wp_count_nonfinite8(alive & ~scatter_finite, counters);
+            alive &= scatter_finite & (l3_max_component(beta) > 0.0f);
+#if WP_RR_DEPTH >= 0
+            // Russian roulette: survive with q = min(1, max component of the throughput).
+            if (bounce >= WP_RR_DEPTH) {
+                const float8 q = min(1.0f, l3_max_component(beta));
+                float8 rx, ry, rz, rw;
+                wp_rng4_lanes(seed, pixel, sample, (uint)bounce, WP_RNG_RR, &rx, &ry, &rz, &rw);
+                alive &= rx < q;
+                beta = l3_scale(beta, 1.0f / q);
+            }
+#endif
+            // The continued path, from the origin on the geometric side it leaves.
+            const L3 on = l3_select(org_below, org, l3_dot(wo, ng) > 0.0f);
+            push_bits = wp_lane_bits(alive);
+            vstore8(on.x, 0, nox), vstore8(on.y, 0, noy), vstore8(on.z, 0, noz);
+            vstore8(wo.x, 0, ndx), vstore8(wo.y, 0, ndy), vstore8(wo.z, 0, ndz);
+            vstore8(beta.x, 0, nbx), vstore8(beta.y, 0, nby), vstore8(beta.z, 0, nbz);
+            vstore8(pdf, 0, npdf);
+        }
+    }
+
+    // One global atomic per work-item and queue (per eight paths). No work-group barrier:
+    // PoCL would keep every lane's outputs in per-work-item context arrays across it (the
+    // copies cost a quarter of this kernel's time, measured).
+    if (push_bits == 0 && shadow_bits == 0) return;
+    int slot = push_bits ? wp_atomic_add(count_out, popcount(push_bits)) : 0;
+    int shadow_slot = shadow_bits ? wp_atomic_add(shadow_count, popcount(shadow_bits)) : 0;
+#pragma unroll
+    for (int l = 0; l < 8; ++l) {
+        if (push_bits & (1 << l)) {
+            Ray r;
+            r.org = make_float4(nox[l], noy[l], noz[l], 0.0f);
+            r.dir = make_float4(ndx[l], ndy[l], ndz[l], FLT_MAX);
+            PathState np = ps[l];
+            np.throughput = make_float4(nbx[l], nby[l], nbz[l], npdf[l]);  // diffuse: never specular
+            rays_out[slot] = r;
+            paths_out[slot] = np;
+            ++slot;
+        }
+        if (shadow_bits & (1 << l)) {
+            Ray r;
+            r.org = make_float4(sox[l], soy[l], soz[l], 0.0f);
+            r.dir = make_float4(sdx[l], sdy[l], sdz[l], stm[l]);
+            shadow_rays[shadow_slot] = r;
+            shadow_items[shadow_slot] = item[l];
+            shadow_contrib[shadow_slot] = make_float4(scx[l], scy[l], scz[l], 0.0f);
+            ++shadow_slot;
+        }
+    }
+}
+#endif  // WP_SHADE_LANES

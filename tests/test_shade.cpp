@@ -13,6 +13,7 @@
 #include <map>
 #include <string>
 #include <numeric>
+#include <random>
 #include <vector>
 
 #include <glm/glm.hpp>
@@ -545,6 +546,47 @@ TEST_CASE("shade (shipped configuration): light samples and BSDF samples combine
     }
 }
 
+namespace {
+
+// The outputs of two shade runs over the same n paths (item i = path i) that differ in any
+// bit: radiance slots, pushed rays and throughputs, shadow rays and contributions, and
+// paths pushed by one run only. Queue order depends on which work-group (or work-item)
+// reserved its slots first, so queue entries are matched by item.
+int output_differences(const ShadeOut& a, const ShadeOut& b, int n) {
+    auto same = [](float4 x, float4 y) { return std::memcmp(&x, &y, sizeof x) == 0; };
+    int differ = 0;
+    for (int i = 0; i < n; ++i) differ += !same(a.radiance[i], b.radiance[i]);
+    std::vector<int> at(n, -1), bt(n, -1);
+    for (int k = 0; k < a.count; ++k) at[a.paths[k].item] = k;
+    for (int k = 0; k < b.count; ++k) bt[b.paths[k].item] = k;
+    for (int i = 0; i < n; ++i) {
+        const int ka = at[i], kb = bt[i];
+        if (ka < 0 || kb < 0) {
+            differ += (ka < 0) != (kb < 0);
+            continue;
+        }
+        differ += !same(a.rays[ka].org, b.rays[kb].org) + !same(a.rays[ka].dir, b.rays[kb].dir) +
+                  !same(a.paths[ka].throughput, b.paths[kb].throughput) +
+                  (a.paths[ka].pixel != b.paths[kb].pixel) + (a.paths[ka].sample != b.paths[kb].sample);
+    }
+    std::vector<int> as(n, -1), bs(n, -1);
+    for (std::size_t k = 0; k < a.shadow_rays.size(); ++k) as[a.shadow_items[k]] = int(k);
+    for (std::size_t k = 0; k < b.shadow_rays.size(); ++k) bs[b.shadow_items[k]] = int(k);
+    for (int i = 0; i < n; ++i) {
+        const int ka = as[i], kb = bs[i];
+        if (ka < 0 || kb < 0) {
+            differ += (ka < 0) != (kb < 0);
+            continue;
+        }
+        differ += !same(a.shadow_rays[ka].org, b.shadow_rays[kb].org) +
+                  !same(a.shadow_rays[ka].dir, b.shadow_rays[kb].dir) +
+                  !same(a.shadow_contrib[ka], b.shadow_contrib[kb]);
+    }
+    return differ;
+}
+
+}  // namespace
+
 TEST_CASE("shade: with shading normals compiled, a triangle without vertex normals shades "
           "exactly as without the feature", "[kernel][shade]") {
     // The generic build (and any scene where some triangles have normals) runs flat
@@ -577,35 +619,7 @@ TEST_CASE("shade: with shading normals compiled, a triangle without vertex norma
         REQUIRE(a.shadow_rays.size() == b.shadow_rays.size());
         CHECK(a.count > n / 4);
         if (kind != WP_MATERIAL_MIRROR) CHECK(a.shadow_rays.size() > std::size_t(n / 4));
-        auto same = [](float4 x, float4 y) { return std::memcmp(&x, &y, sizeof x) == 0; };
-        int differ = 0;
-        for (int i = 0; i < n; ++i) differ += !same(a.radiance[i], b.radiance[i]);
-        // Queue order depends on which work-group reserved its slots first: match by item.
-        std::vector<int> at(n, -1), bt(n, -1);
-        for (int k = 0; k < a.count; ++k) at[a.paths[k].item] = k;
-        for (int k = 0; k < b.count; ++k) bt[b.paths[k].item] = k;
-        for (int i = 0; i < n; ++i) {
-            const int ka = at[i], kb = bt[i];
-            if (ka < 0 || kb < 0) {
-                differ += (ka < 0) != (kb < 0);
-                continue;
-            }
-            differ += !same(a.rays[ka].org, b.rays[kb].org) + !same(a.rays[ka].dir, b.rays[kb].dir) +
-                      !same(a.paths[ka].throughput, b.paths[kb].throughput);
-        }
-        std::vector<int> as(n, -1), bs(n, -1);
-        for (std::size_t k = 0; k < a.shadow_rays.size(); ++k) as[a.shadow_items[k]] = int(k);
-        for (std::size_t k = 0; k < b.shadow_rays.size(); ++k) bs[b.shadow_items[k]] = int(k);
-        for (int i = 0; i < n; ++i) {
-            const int ka = as[i], kb = bs[i];
-            if (ka < 0 || kb < 0) {
-                differ += (ka < 0) != (kb < 0);
-                continue;
-            }
-            differ += !same(a.shadow_rays[ka].org, b.shadow_rays[kb].org) +
-                      !same(a.shadow_rays[ka].dir, b.shadow_rays[kb].dir) +
-                      !same(a.shadow_contrib[ka], b.shadow_contrib[kb]);
-        }
+        const int differ = output_differences(a, b, n);
         CHECK(differ == 0);
     }
 }
@@ -633,4 +647,107 @@ TEST_CASE("shade (shipped configuration): Russian roulette keeps paths with prob
     // Before the roulette bounce nothing is dropped.
     c.bounce = 2;
     CHECK(run_shade(c).count == n);
+}
+
+// shade_surface8 (eight paths per work-item, kernels/shared/lanes.h) is a second spelling of
+// shade_surface for diffuse scenes: on random hits — triangles from 1e-3 to 1e3 units,
+// emitters seen from both sides, misses, paths that arrived by a Dirac lobe, non-finite
+// throughputs, a queue length that is not a multiple of eight — every output bit must equal
+// shade_surface's, in every estimator the lane kernel compiles.
+TEST_CASE("shade: eight paths per work-item give shade_surface's bits", "[kernel][shade]") {
+    std::mt19937 rng(0x5eed8);
+    std::uniform_real_distribution<float> u01(0.0f, 1.0f);
+    ShadeCase base;
+    const int tris = 40, lights = 6;
+    float total = 0.0f;
+    std::vector<float> weights;
+    for (int t = 0; t < tris; ++t) {
+        const float scale = std::pow(10.0f, -3.0f + 6.0f * u01(rng));
+        const glm::vec3 c(4 * u01(rng) - 2, 4 * u01(rng) - 2, 4 * u01(rng) - 2);
+        auto vert = [&] {
+            glm::vec3 p = c + scale * glm::vec3(u01(rng) - 0.5f, u01(rng) - 0.5f, u01(rng) - 0.5f);
+            return float4{p.x, p.y, p.z, 0};
+        };
+        base.tris.push_back({vert(), vert(), vert()});
+        const bool light = t < lights;
+        base.material_ids.push_back(t);
+        base.materials.push_back(material(WP_MATERIAL_DIFFUSE, {u01(rng), u01(rng), u01(rng)},
+                                          light ? glm::vec3(1 + 9 * u01(rng), 2, 3 * u01(rng)) : glm::vec3(0)));
+        if (light) {
+            base.light_prims.push_back(t);
+            weights.push_back(0.5f + u01(rng));
+            total += weights.back();
+        }
+    }
+    for (float w : weights) base.light_cdf.push_back((base.light_cdf.empty() ? 0.0f : base.light_cdf.back()) + w / total);
+    base.light_cdf.back() = 1.0f;
+    base.light_pdf_area.assign(tris, 0.0f);
+    for (int k = 0; k < lights; ++k) {
+        const Triangle& t = base.tris[base.light_prims[k]];
+        const glm::vec3 e1 = v3(t.v1) - v3(t.v0), e2 = v3(t.v2) - v3(t.v0);
+        base.light_pdf_area[base.light_prims[k]] = weights[k] / total / (0.5f * glm::length(glm::cross(e1, e2)));
+    }
+    const int n = 8 * 600 + 5;
+    for (int i = 0; i < n; ++i) {
+        glm::vec3 d(2 * u01(rng) - 1, 2 * u01(rng) - 1, 2 * u01(rng) - 1);
+        d *= 0.5f + u01(rng);  // directions need not be unit length
+        PathState p{};
+        p.throughput = {u01(rng), u01(rng), 1.5f * u01(rng), i % 7 == 0 ? 0.0f : 2 * u01(rng)};
+        if (i % 101 == 0) p.throughput.y = std::nanf("");
+        if (i % 103 == 0) p.throughput.x = INFINITY;
+        p.pixel = int(rng() % 100000);
+        p.sample = rng() % 1000;
+        p.item = i;
+        base.paths.push_back(p);
+        base.rays.push_back(test::make_ray({0, 0, 0}, d));
+        float bu = u01(rng), bv = u01(rng);
+        if (bu + bv > 1) bu = 1 - bu, bv = 1 - bv;
+        base.hits.push_back(i % 9 == 0 ? Hit{FLT_MAX, -1, 0, 0} : Hit{0.1f + 10 * u01(rng), int(rng() % tris), bu, bv});
+    }
+    base.pixels = n;
+    base.background = {0.25f, 0.5f, 0.75f, 0};
+    std::vector<render::Estimator> estimators = {render::Estimator{}, render::Estimator::original(),
+                                                 {render::Sampling::Nee, render::GlossyModel::Ggx, true, 1},
+                                                 {render::Sampling::Cosine, render::GlossyModel::Ggx, false, 0}};
+    for (const render::Estimator& e : estimators) {
+        for (int bounce : {0, 1, 4}) {
+            ShadeCase scalar = base;
+            scalar.config = render::KernelConfig{};
+            scalar.config.kinds.reset();
+            scalar.config.kinds.set(static_cast<std::size_t>(MaterialKind::Diffuse));
+            scalar.config.estimator = e;
+            scalar.bounce = bounce;
+            scalar.max_depth = bounce == 4 ? 4 : 8;  // at the depth limit: emission only
+            scalar.seed = 11u + unsigned(bounce);
+            ShadeCase lanes = scalar;
+            lanes.config.lanes = true;
+            REQUIRE(lanes.config.shade_lanes());
+            REQUIRE_FALSE(scalar.config.shade_lanes());
+            const ShadeOut a = run_shade(scalar), b = run_shade(lanes);
+            INFO("sampling " << render::sampling_name(e.sampling) << ", bounce " << bounce);
+            CHECK(a.count == b.count);
+            CHECK(a.shadow_rays.size() == b.shadow_rays.size());
+            CHECK(a.counters == b.counters);
+            CHECK(a.counters[WP_COUNTER_SHADE_NONFINITE] > 0);
+            if (bounce < 4) CHECK(a.count > n / 4);
+            if (bounce < 4 && lanes.config.nee()) CHECK(a.shadow_rays.size() > std::size_t(n / 10));
+            CHECK(output_differences(a, b, n) == 0);
+        }
+    }
+    // The lane kernel is chosen only where it models the configuration.
+    render::KernelConfig k;
+    k.lanes = true;
+    CHECK_FALSE(k.shade_lanes());  // every kind
+    k.kinds.reset();
+    k.kinds.set(static_cast<std::size_t>(MaterialKind::Diffuse));
+    CHECK(k.shade_lanes());
+    for (auto feature : {&render::KernelConfig::normals, &render::KernelConfig::textures,
+                         &render::KernelConfig::normal_maps, &render::KernelConfig::env,
+                         &render::KernelConfig::anisotropic}) {
+        render::KernelConfig f = k;
+        f.*feature = true;
+        CHECK_FALSE(f.shade_lanes());
+    }
+    k.inject_nan = 1;
+    CHECK_FALSE(k.shade_lanes());
 }

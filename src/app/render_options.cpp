@@ -78,6 +78,12 @@ void add_config_options(CLI::App* c, ConfigArgs& a) {
                   "sampling never picks): the same estimator and image in expectation, for "
                   "measuring what specialisation gains)")
         ->capture_default_str();
+    c->add_option("--shade-lanes", a.shade_lanes,
+                  "on: on a CPU device, shade eight paths per work-item in vector lanes where "
+                  "that kernel models the scene (diffuse materials, no shading normals, "
+                  "textures, normal maps, anisotropy or environment); the same estimator and "
+                  "numbers up to rounding. off: one path per work-item always")
+        ->capture_default_str();
     c->add_flag("--adaptive", a.adaptive,
                 "Adaptive sampling: after --min-spp samples, a pixel stops receiving samples "
                 "when the largest estimated relMSE over its 3x3 neighbourhood (per pixel: 1/3 "
@@ -158,6 +164,9 @@ render::RenderSettings make_settings(const ConfigArgs& a, const Scene& scene) {
     if (a.kernels != "specialised" && a.kernels != "generic")
         usage_fail("--kernels '{}': expected specialised or generic", a.kernels);
     s.kernels = render::parse_kernel_set(a.kernels);
+    if (a.shade_lanes != "on" && a.shade_lanes != "off")
+        usage_fail("--shade-lanes '{}': expected on or off", a.shade_lanes);
+    s.shade_lanes = a.shade_lanes == "on";
     if (!(a.adaptive_threshold >= limits::kMinErrorThreshold &&
           a.adaptive_threshold <= limits::kMaxErrorThreshold))
         usage_fail("--adaptive-threshold must be in {:g}..{:g} (got {})", limits::kMinErrorThreshold,

@@ -118,7 +118,16 @@ std::string KernelConfig::shade_options() const {
     if (normal_maps) o += " -D WP_HAVE_NORMAL_MAPS=1";
     if (env) o += " -D WP_HAVE_ENV=1";
     if (anisotropic) o += " -D WP_HAVE_ANISOTROPY=1";
+    if (shade_lanes()) o += " -D WP_SHADE_LANES=1";
     return o + replicate_options() + inject_options();
+}
+
+bool KernelConfig::shade_lanes() const {
+    // Keep in step with the #error list of shade_surface8 (kernels/shade.cl).
+    std::bitset<kMaterialKindCount> diffuse;
+    diffuse.set(static_cast<std::size_t>(MaterialKind::Diffuse));
+    return lanes && (kinds & ~diffuse).none() && !normals && !textures && !normal_maps && !env &&
+           !anisotropic && inject_nan == 0;
 }
 
 std::string KernelConfig::trace_options() const {

@@ -84,6 +84,8 @@ struct KernelConfig {
     // guards get a NaN for every pixel p with p % inject_period == 0; 0 compiles nothing.
     int inject_nan = 0;
     int inject_period = 97;
+    // Lanes allowed (RenderSettings::shade_lanes on a CPU device): see shade_lanes().
+    bool lanes = false;
 
     bool has(MaterialKind k) const { return kinds.test(static_cast<std::size_t>(k)); }
     // Light sampling is compiled only when something emits (a triangle or the environment)
@@ -109,6 +111,10 @@ struct KernelConfig {
     std::string accumulate_options() const;  // injection
     std::string trace_options() const;       // intersect and shadow: alpha cut-outs
     std::string aov_options() const;         // aov (render/aov.h): normals, textures, normal maps
+    // Shade runs shade_surface8, eight paths per work-item (kernels/shared/lanes.h): lanes
+    // are allowed and the lane kernel models the configuration — diffuse surfaces only, no
+    // appearance feature, no NaN injection. Adds -D WP_SHADE_LANES=1 to shade_options().
+    bool shade_lanes() const;
     // Some material kind the scene has is specular in every event (material_kinds.h).
     bool any_specular() const;
     // What the renderer prints with -v: the shade slice, the largest.

@@ -53,9 +53,11 @@ RenderSettings with_implied(RenderSettings s) {
     return s;
 }
 
-KernelConfig make_config(const Scene& scene, const RenderSettings& s) {
+KernelConfig make_config(const ocl::Device& dev, const Scene& scene, const RenderSettings& s) {
     KernelConfig c = KernelConfig::from_scene(scene, s.estimator);
     if (s.kernels == KernelSet::Generic) c = c.with_every_feature();
+    // Eight paths per work-item suit a CPU's vector units; a GPU wants one per thread.
+    c.lanes = s.shade_lanes && dev.info.type == "CPU";
     c.replicates = s.replicates;
     c.inject_nan = s.inject_nan;
     c.inject_period = s.inject_period;
@@ -65,7 +67,7 @@ KernelConfig make_config(const Scene& scene, const RenderSettings& s) {
 }  // namespace
 
 Wavefront::Wavefront(ocl::Device& dev, const Scene& scene, const RenderSettings& settings)
-    : dev_(dev), settings_((validate(settings), with_implied(settings))), config_(make_config(scene, settings)),
+    : dev_(dev), settings_((validate(settings), with_implied(settings))), config_(make_config(dev, scene, settings)),
       options_(config_.options()), memory_from_(dev.memory ? dev.memory->next_id() : 0),
       scene_(DeviceScene::upload(dev, scene, config_, settings.width, settings.height, settings.jitter)) {
     // Scene, pool, film: each buffer is checked against the device before it is created

@@ -5,7 +5,8 @@ namespace wp::render {
 ShadeStage::ShadeStage(const ocl::Device& dev, const KernelConfig& config, ocl::Profiler* profiler)
     : target_{&dev.queue, profiler},
       program_(ocl::Program::build(dev, "shade.cl", config.shade_options())),
-      kernel_(program_, "shade_surface", "shade"),
+      lanes_(config.shade_lanes()),
+      kernel_(program_, lanes_ ? "shade_surface8" : "shade_surface", "shade"),
       frames_(program_, "shade_triangle_frames", "shade.frames") {}
 
 void ShadeStage::prepare(const ShadingScene& scene) {
@@ -19,7 +20,8 @@ void ShadeStage::prepare(const ShadingScene& scene) {
                                 int max_depth, const ocl::Array<float4>& radiance,
                                 const ocl::Array<int>& counters, const PathQueue& out,
                                 const ShadowQueue& shadow) {
-    return kernel_.launch(target_, launch, in.rays, in.paths, in.count, hits, scene.tris,
+    // shade_surface8: one work-item per eight queue entries.
+    return kernel_.launch(target_, lanes_ ? (launch + 7) / 8 : launch, in.rays, in.paths, in.count, hits, scene.tris,
                           scene.tri_frames, scene.material_ids, scene.materials,
                           scene.material_tables, scene.background, scene.light_cdf,
                           scene.light_guide, cl_int(scene.light_guide_size), scene.light_prims,

@@ -32,6 +32,7 @@ class ShadeStage {
   private:
     ocl::LaunchTarget target_;
     ocl::Program program_;
+    bool lanes_ = false;  // kernel_ is shade_surface8 (KernelConfig::shade_lanes)
     ocl::Kernel kernel_;
     ocl::Kernel frames_;
 };

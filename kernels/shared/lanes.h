@@ -1,0 +1,152 @@
+// lanes.h — eight paths at a time: the shading arithmetic on float8 lanes (OpenCL only).
+//
+// PoCL turns a work-group into a loop over its work-items and vectorises that loop only when
+// its body holds no vector-typed instruction; every float3 of the scalar shading code is one,
+// so shade_surface runs one path at a time (docs/performance.md, "Third round"). The lane
+// kernel (shade.cl, shade_surface8) spells the vector width out instead: each work-item
+// shades eight paths, every per-path value a float8 (lane l = path l), every 3-vector an L3
+// of three float8, decisions as int8 masks (-1 true, 0 false: OpenCL's vector relational
+// results, which select() reads by their sign bit).
+//
+// Each function here is the lane form of a scalar one, with the same operations in the same
+// order, so that a lane computes the scalar function's bits (FP_CONTRACT is off: compat.h);
+// tests/test_shade_lanes.cpp checks every function against its scalar twin bit for bit, and
+// the lane kernel against shade_surface. Change both together.
+#ifndef WP_LANES_H
+#define WP_LANES_H
+
+#include "compat.h"
+
+#if defined(WP_OPENCL)
+
+WP_NAMESPACE_BEGIN
+
+// Three float8: lane l of x, y, z is the 3-vector of path l.
+typedef struct L3 {
+    float8 x, y, z;
+} L3;
+
+WP_FN L3 l3(float8 x, float8 y, float8 z) {
+    L3 r;
+    r.x = x;
+    r.y = y;
+    r.z = z;
+    return r;
+}
+WP_FN L3 l3_splat(float x, float y, float z) { return l3((float8)(x), (float8)(y), (float8)(z)); }
+WP_FN L3 l3_add(L3 a, L3 b) { return l3(a.x + b.x, a.y + b.y, a.z + b.z); }
+WP_FN L3 l3_sub(L3 a, L3 b) { return l3(a.x - b.x, a.y - b.y, a.z - b.z); }
+WP_FN L3 l3_mul(L3 a, L3 b) { return l3(a.x * b.x, a.y * b.y, a.z * b.z); }
+WP_FN L3 l3_scale(L3 a, float8 s) { return l3(a.x * s, a.y * s, a.z * s); }
+WP_FN L3 l3_neg(L3 a) { return l3(-a.x, -a.y, -a.z); }
+WP_FN L3 l3_abs(L3 a) { return l3(fabs(a.x), fabs(a.y), fabs(a.z)); }
+// dot(a, b) of float3, as OpenCL's builtin rounds it: (x + y) + z.
+WP_FN float8 l3_dot(L3 a, L3 b) { return a.x * b.x + a.y * b.y + a.z * b.z; }
+// c ? b : a per lane (c: a mask).
+WP_FN L3 l3_select(L3 a, L3 b, int8 c) {
+    return l3(select(a.x, b.x, c), select(a.y, b.y, c), select(a.z, b.z, c));
+}
+WP_FN float8 l3_max_component(L3 v) { return max(v.x, max(v.y, v.z)); }  // wp_max_component
+WP_FN int8 l3_all_finite(L3 v) { return isfinite(v.x) & isfinite(v.y) & isfinite(v.z); }
+
+// Lane l of a private array of eight (gathered per lane) as a float8 / int8.
+#define WP_LANES_F(a) vload8(0, a)
+#define WP_LANES_I(a) vload8(0, a)
+
+// The lanes of mask m as bits (bit l: lane l true).
+WP_FN int wp_lane_bits(int8 m) {
+    int b[8];
+    vstore8(m, 0, b);
+    int r = 0;
+#pragma unroll
+    for (int l = 0; l < 8; ++l) r |= (b[l] < 0 ? 1 : 0) << l;
+    return r;
+}
+
+// offset.h
+WP_FN float8 wp_next_float_up8(float8 x) {
+    int8 b = as_int8(x);
+    float8 r = as_float8(select(b - 1, b + 1, x > 0.0f));
+    return select(r, as_float8((int8)(1)), x == 0.0f);
+}
+WP_FN float8 wp_next_float_down8(float8 x) {
+    int8 b = as_int8(x);
+    float8 r = as_float8(select(b + 1, b - 1, x > 0.0f));
+    return select(r, -as_float8((int8)(1)), x == 0.0f);
+}
+WP_FN L3 wp_hit_point8(L3 v0, L3 v1, L3 v2, float8 u, float8 v, L3* err) {
+    L3 a = l3_scale(l3_sub(v1, v0), u), b = l3_scale(l3_sub(v2, v0), v);
+    L3 p = l3_add(l3_add(v0, a), b);
+    *err = l3_add(l3_scale(l3_add(l3_abs(a), l3_abs(b)), (float8)(WP_GAMMA3)),
+                  l3_scale(l3_add(l3_abs(v0), l3_abs(p)), (float8)(WP_GAMMA2)));
+    return p;
+}
+WP_FN float8 wp_offset_component8(float8 o, float8 off) {
+    return select(select(o, wp_next_float_down8(o), off < 0.0f), wp_next_float_up8(o), off > 0.0f);
+}
+WP_FN L3 wp_offset_ray_origin8(L3 p, L3 err, L3 n, float8 extra) {
+    float8 d = l3_dot(l3_abs(n), err) + extra;
+    L3 off = l3_scale(n, d);
+    L3 o = l3_add(p, off);
+    return l3(wp_offset_component8(o.x, off.x), wp_offset_component8(o.y, off.y),
+              wp_offset_component8(o.z, off.z));
+}
+WP_FN float8 wp_shadow_tmax8(L3 sd, L3 yerr, L3 ln, float8 tri_offset) {
+    L3 a = l3_abs(sd);
+    float8 s = fmax(a.x, fmax(a.y, a.z));
+    float8 h = l3_dot(l3_abs(ln), yerr) + tri_offset + (WP_OFFSET_SHADOW_K * 5.9604645e-8f) * s;
+    float8 dt = h / fabs(l3_dot(sd, ln));
+    return select((float8)(0.5f), 1.0f - dt, dt < 0.5f);
+}
+
+// sampling.h
+WP_FN void wp_sincos_2pi8(float8 u, float8* s, float8* c) {
+    float8 t = 4.0f * u;
+    int8 q = convert_int8(t + 0.5f);
+    float8 x = (t - convert_float8(q)) * (0.5f * WP_PI);
+    float8 z = x * x;
+    float8 sx = x + x * z * (-1.6666654611e-1f + z * (8.3321608736e-3f + z * -1.9515295891e-4f));
+    float8 cx = 1.0f - 0.5f * z + z * z * (4.166664568298827e-2f + z * (-1.388731625493765e-3f + z * 2.443315711809948e-5f));
+    int8 odd = (q & 1) != 0;
+    float8 a = select(sx, cx, odd), b = select(cx, sx, odd);
+    *s = select(a, -a, (q & 2) != 0);
+    *c = select(b, -b, ((q + 1) & 2) != 0);
+}
+WP_FN L3 wp_to_world8(L3 lv, L3 n) {
+    float8 sign = copysign((float8)(1.0f), n.z);
+    float8 a = -1.0f / (sign + n.z);
+    float8 c = n.x * n.y * a;
+    L3 t = l3(1.0f + sign * n.x * n.x * a, sign * c, -sign * n.x);
+    L3 b = l3(c, sign + n.y * n.y * a, -n.y);
+    return l3_add(l3_add(l3_scale(t, lv.x), l3_scale(b, lv.y)), l3_scale(n, lv.z));
+}
+WP_FN L3 wp_sample_cosine_hemisphere8(float8 u1, float8 u2) {
+    float8 r = sqrt(u1);
+    float8 sp, cp;
+    wp_sincos_2pi8(u2, &sp, &cp);
+    return l3(r * cp, r * sp, sqrt(1.0f - u1));
+}
+WP_FN L3 wp_sample_uniform_hemisphere8(float8 u1, float8 u2) {  // wp_spherical_local(1 - u1, u2)
+    float8 cos_theta = 1.0f - u1;
+    float8 sin_theta = sqrt(max(0.0f, 1.0f - cos_theta * cos_theta));
+    float8 sp, cp;
+    wp_sincos_2pi8(u2, &sp, &cp);
+    return l3(sin_theta * cp, sin_theta * sp, cos_theta);
+}
+WP_FN float8 wp_cosine_hemisphere_pdf8(float8 cos_theta) {
+    return select((float8)(0.0f), cos_theta * WP_INV_PI, cos_theta > 0.0f);
+}
+
+// lights.h
+WP_FN float8 wp_light_pdf_solid_angle8(float8 pdf_area, float8 dist2, float8 cos_light) {
+    return select((float8)(0.0f), pdf_area * dist2 / cos_light, cos_light > 0.0f);
+}
+WP_FN float8 wp_power_heuristic8(float8 pa, float8 pb) {
+    float8 r = pb / pa;
+    return select((float8)(0.0f), 1.0f / (1.0f + r * r), pa > 0.0f);
+}
+
+WP_NAMESPACE_END
+
+#endif  // WP_OPENCL
+#endif  // WP_LANES_H
