@@ -5,6 +5,7 @@
 #include "shared/bsdf.h"
 #include "shared/lights.h"
 #include "shared/rng.h"
+#include "shared/rng_lanes.h"
 
 // probe_bsdf_sample
 // reads   m, the arriving direction d and normal ns (xyz, unit), front (glass: from
@@ -50,6 +51,34 @@ WP_KERNEL void probe_rng4(uint seed, int n, WP_GLOBAL uint4* out) {
     if (i >= n) return;
     float4 u = wp_rng4(seed, (uint)i, 3u * (uint)i + 1u, (uint)(i % 7), (uint)(i % 5));
     out[i] = make_uint4(as_uint(u.x), as_uint(u.y), as_uint(u.z), as_uint(u.w));
+}
+
+// wp_rng4_lanes for eight keys per item, as raw bits: lane l of item i has the key (seed,
+// pixel[8 i + l], sample[8 i + l], bounce[i], group[i]) and writes component c to
+// out[32 i + 8 c + l] (tests/test_sampling.cpp compares them with the host's wp_rng4).
+// The function is OpenCL-only; CUDA and the host run the scalar function per lane.
+WP_KERNEL void probe_rng4_lanes(uint seed, int n, WP_GLOBAL const uint* pixel,
+                                WP_GLOBAL const uint* sample, WP_GLOBAL const uint* bounce,
+                                WP_GLOBAL const uint* group, WP_GLOBAL uint* out) {
+    int i = wp_global_id();
+    if (i >= n) return;
+#if defined(WP_OPENCL)
+    float8 x, y, z, w;
+    wp_rng4_lanes(seed, vload8(i, pixel), vload8(i, sample), bounce[i], group[i], &x, &y, &z,
+                  &w);
+    vstore8(as_uint8(x), 4 * i + 0, out);
+    vstore8(as_uint8(y), 4 * i + 1, out);
+    vstore8(as_uint8(z), 4 * i + 2, out);
+    vstore8(as_uint8(w), 4 * i + 3, out);
+#else
+    for (int l = 0; l < 8; ++l) {
+        float4 u = wp_rng4(seed, pixel[8 * i + l], sample[8 * i + l], bounce[i], group[i]);
+        out[32 * i + l] = as_uint(u.x);
+        out[32 * i + 8 + l] = as_uint(u.y);
+        out[32 * i + 16 + l] = as_uint(u.z);
+        out[32 * i + 24 + l] = as_uint(u.w);
+    }
+#endif
 }
 
 // wp_sincos_2pi(i / n) as raw bits (tests/test_sampling.cpp: the same bits as the host's).

@@ -647,6 +647,73 @@ TEST_CASE("sampling: Sobol numbers on the device equal the host's", "[kernel][sa
     }
 }
 
+// wp_rng4_lanes (kernels/shared/rng_lanes.h: wp_rng4 for eight keys as uint8 / float8
+// vector code) gives every lane the bits of the host's scalar wp_rng4, for both samplers and
+// K = 1 and 4 RQMC replicates, on keys that include 0, 2^31 and 0xffffffff. The host's
+// wp_rng4 is compiled for the default sampler (Sobol) and K = 1; the other cases take the
+// same steps from its parts (wp_sobol_rng4 with `replicates`, wp_pcg4d).
+TEST_CASE("sampling: eight-lane rng4 on the device equals the host's scalar rng4", "[kernel][sampling]") {
+    auto& dev = test::device();
+    const int items = 512;  // 4096 lanes per seed
+    // Keys: edge values mixed with pcg4d words; bounce and group uniform per item.
+    const uint edges[] = {0u, 1u, 2u, 3u, 4u, 5u, 0x7fffffffu, 0x80000000u, 0x80000001u,
+                          0xfffffffcu, 0xfffffffeu, 0xffffffffu};
+    const int n_edges = int(sizeof edges / sizeof edges[0]);
+    std::vector<uint> pixel(8 * items), sample(8 * items), bounce(items), group(items);
+    for (int i = 0; i < items; ++i) {
+        for (int l = 0; l < 8; ++l) {
+            int q = 8 * i + l;
+            Rng4 h = wp_pcg4d(uint(q), 0x1234u, 0x5678u, 0x9abcu);
+            pixel[q] = (q % 3 == 0) ? edges[(q / 3) % n_edges] : (q % 3 == 1 ? h.x : h.x & 0xffffu);
+            sample[q] = (q % 5 < 2) ? edges[(q / 5 + l) % n_edges] : (q % 5 == 2 ? h.y : h.y & 0x3ffu);
+        }
+        bounce[i] = (i % 11 == 10) ? 0xffffffffu : uint(i % 11);
+        group[i] = uint(i % 16);
+    }
+    cl::Buffer pb = upload(pixel), sb = upload(sample), bb = upload(bounce), gb = upload(group);
+    struct Config { int sampler; uint replicates; };
+    for (Config c : {Config{1, 1u}, Config{1, 4u}, Config{0, 1u}, Config{0, 4u}}) {
+        std::string options = "-D WP_SAMPLER=" + std::to_string(c.sampler) +
+                               " -D WP_SOBOL_REPLICATES=" + std::to_string(c.replicates);
+        ocl::Program prog = ocl::Program::build(dev, "test_sampling.cl", options);
+        ocl::Kernel k(prog, "probe_rng4_lanes", "probe.rng4_lanes");
+        for (cl_uint seed : {0u, 7u, 0xfeedbeefu, 0xffffffffu}) {
+            cl::Buffer out(dev.context, CL_MEM_READ_WRITE, 32 * items * sizeof(uint));
+            k.launch({&dev.queue}, items, seed, items, pb, sb, bb, gb, out);
+            std::vector<uint> got(32 * items);
+            dev.queue.enqueueReadBuffer(out, CL_TRUE, 0, got.size() * sizeof(uint), got.data());
+            int bad = 0, first = -1;
+            for (int q = 0; q < 8 * items; ++q) {
+                int i = q / 8, l = q % 8;
+                uint b[4];
+                if (c.sampler == 1 && c.replicates == 1) {
+                    float4 u = wp_rng4(seed, pixel[q], sample[q], bounce[i], group[i]);
+                    std::memcpy(b, &u, sizeof b);
+                } else {
+                    uint r[4];
+                    if (c.sampler == 1) {
+                        uint4 v = wp_sobol_rng4(seed, pixel[q], sample[q], bounce[i], group[i], c.replicates);
+                        r[0] = v.x, r[1] = v.y, r[2] = v.z, r[3] = v.w;
+                    } else {
+                        Rng4 v = wp_pcg4d(pixel[q], sample[q], bounce[i] * uint(WP_RNG_GROUPS) + group[i], seed);
+                        r[0] = v.x, r[1] = v.y, r[2] = v.z, r[3] = v.w;
+                    }
+                    for (int d = 0; d < 4; ++d) b[d] = as_uint(wp_uint_to_unit(r[d]));
+                }
+                bool differs = false;
+                for (int d = 0; d < 4; ++d) differs |= got[32 * i + 8 * d + l] != b[d];
+                if (differs) {
+                    bad += 1;
+                    if (first < 0) first = q;
+                }
+            }
+            INFO("sampler " << c.sampler << ", replicates " << c.replicates << ", seed " << seed
+                            << ", first differing lane " << first);
+            CHECK(bad == 0);
+        }
+    }
+}
+
 // wp_sincos_2pi on the device gives the host's bits (no contraction, no library call).
 TEST_CASE("sampling: sincos of 2 pi u on the device equals the host's", "[kernel][sampling]") {
     auto& dev = test::device();
