@@ -583,21 +583,7 @@ WP_KERNEL void shade_triangle_frames(WP_GLOBAL const Triangle* tris, int count,
 #error "shade_surface8 models diffuse triangles without appearance features (KernelConfig::shade_lanes)"
 #endif
 #include "shared/lanes.h"
-
-// The four numbers of wp_rng4 for eight keys (lane by lane).
-WP_FN void wp_rng4_lanes(uint seed, uint8 pixel, uint8 sample, uint bounce, uint group,
-                         float8* x, float8* y, float8* z, float8* w) {
-    uint pa[8], sa[8];
-    float xa[8], ya[8], za[8], wa[8];
-    vstore8(pixel, 0, pa);
-    vstore8(sample, 0, sa);
-#pragma unroll
-    for (int l = 0; l < 8; ++l) {
-        float4 u = wp_rng4(seed, pa[l], sa[l], bounce, group);
-        xa[l] = u.x, ya[l] = u.y, za[l] = u.z, wa[l] = u.w;
-    }
-    *x = vload8(0, xa), *y = vload8(0, ya), *z = vload8(0, za), *w = vload8(0, wa);
-}
+#include "shared/rng_lanes.h"
 
 // Counts the lanes of mask m in counters[WP_COUNTER_SHADE_NONFINITE].
 WP_FN void wp_count_nonfinite8(int8 m, WP_GLOBAL int* counters) {
