@@ -645,30 +645,32 @@ WP_KERNEL void shade_surface8(WP_GLOBAL const Ray* rays_in, WP_GLOBAL const Path
     if (base < count) {
         // Gather the lanes' queue entries (lanes past the queue repeat its last entry and
         // stay inactive).
-        float4 dir_a[8], thr_a[8], hit_a[8];
-        int valid_a[8];
+        float dx[8], dy[8], dz[8], tx[8], ty[8], tz[8], tw[8], ht[8], hu[8], hv[8];
+        int prim_a[8], valid_a[8];
+        uint pixel_a[8], sample_a[8];
 #pragma unroll
         for (int l = 0; l < 8; ++l) {
             int i = min(base + l, count - 1);
             valid_a[l] = base + l < count ? -1 : 0;
-            dir_a[l] = rays_in[i].dir;
-            ps[l] = paths_in[i];
-            thr_a[l] = ps[l].throughput;
-            item[l] = ps[l].item;
+            Ray r = rays_in[i];
+            PathState p = paths_in[i];
             Hit h = hits[i];
-            hit_a[l] = make_float4(h.t, as_float(h.prim), h.u, h.v);
+            ps[l] = p;
+            item[l] = p.item;
+            pixel_a[l] = (uint)p.pixel;
+            sample_a[l] = p.sample;
+            dx[l] = r.dir.x, dy[l] = r.dir.y, dz[l] = r.dir.z;
+            tx[l] = p.throughput.x, ty[l] = p.throughput.y, tz[l] = p.throughput.z;
+            tw[l] = p.throughput.w;
+            ht[l] = h.t, hu[l] = h.u, hv[l] = h.v;
+            prim_a[l] = h.prim;
         }
         const int8 valid = vload8(0, valid_a);
-        const L3 d = wp_lanes_xyz(dir_a);
-        float8 thr_w, hit_t, hit_u, hit_v, prim_f;
-        L3 beta;
-        wp_transpose8x4(thr_a, &beta.x, &beta.y, &beta.z, &thr_w);
-        wp_transpose8x4(hit_a, &hit_t, &prim_f, &hit_u, &hit_v);
-        const int8 prim = as_int8(prim_f);
-        uint pixel_a[8], sample_a[8];
-#pragma unroll
-        for (int l = 0; l < 8; ++l) pixel_a[l] = (uint)ps[l].pixel, sample_a[l] = ps[l].sample;
+        const int8 prim = vload8(0, prim_a);
         const uint8 pixel = vload8(0, pixel_a), sample = vload8(0, sample_a);
+        const L3 d = l3(vload8(0, dx), vload8(0, dy), vload8(0, dz));
+        const float8 thr_w = vload8(0, tw);
+        L3 beta = l3(vload8(0, tx), vload8(0, ty), vload8(0, tz));
         const int8 arrived_specular = bounce > 0 ? thr_w == 0.0f : (int8)(0);
 
         // Entry guard: a path whose throughput is not finite ends here, counted.
@@ -682,30 +684,33 @@ WP_KERNEL void shade_surface8(WP_GLOBAL const Ray* rays_in, WP_GLOBAL const Path
         int8 alive = active & (prim >= 0);
 
         // Surface: the triangle, its frame and material (misses read triangle 0, unused).
-        float4 v0_a[8], v1_a[8], v2_a[8], frame_a[8], albedo_a[8], em_a[8];
-        float pa[8];
-        int prim_a[8];
-        vstore8(prim, 0, prim_a);
+        float v0x[8], v0y[8], v0z[8], v1x[8], v1y[8], v1z[8], v2x[8], v2y[8], v2z[8];
+        float nx[8], ny[8], nz[8], toff[8], ax[8], ay[8], az[8], ex[8], ey[8], ez[8], pa[8];
 #pragma unroll
         for (int l = 0; l < 8; ++l) {
             int t = max(prim_a[l], 0);
             Triangle tri = tris[t];
+            float4 f = tri_frames[t];
             int mid = material_ids[t];
-            v0_a[l] = tri.v0, v1_a[l] = tri.v1, v2_a[l] = tri.v2;
-            frame_a[l] = tri_frames[t];
-            albedo_a[l] = materials[mid].albedo;
-            em_a[l] = materials[mid].emission;
+            float4 alb = materials[mid].albedo, em = materials[mid].emission;
+            v0x[l] = tri.v0.x, v0y[l] = tri.v0.y, v0z[l] = tri.v0.z;
+            v1x[l] = tri.v1.x, v1y[l] = tri.v1.y, v1z[l] = tri.v1.z;
+            v2x[l] = tri.v2.x, v2y[l] = tri.v2.y, v2z[l] = tri.v2.z;
+            nx[l] = f.x, ny[l] = f.y, nz[l] = f.z, toff[l] = f.w;
+            ax[l] = alb.x, ay[l] = alb.y, az[l] = alb.z;
+            ex[l] = em.x, ey[l] = em.y, ez[l] = em.z;
 #if WP_HAVE_NEE
             pa[l] = light_pdf_area[t];
 #else
             pa[l] = 0.0f;
 #endif
         }
-        const L3 v0 = wp_lanes_xyz(v0_a), v1 = wp_lanes_xyz(v1_a), v2 = wp_lanes_xyz(v2_a);
-        L3 n;
-        float8 tri_offset;
-        wp_transpose8x4(frame_a, &n.x, &n.y, &n.z, &tri_offset);
-        const L3 albedo = wp_lanes_xyz(albedo_a);
+        const L3 v0 = l3(vload8(0, v0x), vload8(0, v0y), vload8(0, v0z));
+        const L3 v1 = l3(vload8(0, v1x), vload8(0, v1y), vload8(0, v1z));
+        const L3 v2 = l3(vload8(0, v2x), vload8(0, v2y), vload8(0, v2z));
+        const L3 n = l3(vload8(0, nx), vload8(0, ny), vload8(0, nz));
+        const float8 tri_offset = vload8(0, toff);
+        const L3 albedo = l3(vload8(0, ax), vload8(0, ay), vload8(0, az));
         const int8 front = l3_dot(d, n) < 0.0f;
         const L3 dn = l3_scale(d, 1.0f / sqrt(l3_dot(d, d)));  // normalize(d)
         const float p_env = wp_env_choice(light_count, env);
@@ -714,7 +719,7 @@ WP_KERNEL void shade_surface8(WP_GLOBAL const Ray* rays_in, WP_GLOBAL const Path
         // Emission of the front face, weighted against light sampling where that could have
         // found this point too.
         {
-            const L3 e = wp_lanes_xyz(em_a);
+            const L3 e = l3(vload8(0, ex), vload8(0, ey), vload8(0, ez));
             const int8 emits = alive & front & (l3_max_component(e) > 0.0f);
             if (wp_lane_bits(emits)) {
                 float8 w = 1.0f;
@@ -722,7 +727,7 @@ WP_KERNEL void shade_surface8(WP_GLOBAL const Ray* rays_in, WP_GLOBAL const Path
                 float8 pdf_area = vload8(0, pa) * (1.0f - p_env);
                 int8 weighed = (bounce > 0 ? (int8)(-1) : (int8)(0)) & ~arrived_specular & (pdf_area > 0.0f);
 #if WP_SAMPLING == WP_SAMPLING_MIS
-                float8 dist = hit_t * sqrt(l3_dot(d, d));
+                float8 dist = vload8(0, ht) * sqrt(l3_dot(d, d));
                 float8 p_light = wp_light_pdf_solid_angle8(pdf_area, dist * dist, -l3_dot(dn, n));
                 w = select(w, wp_power_heuristic8(thr_w, p_light), weighed);
 #else
@@ -741,7 +746,7 @@ WP_KERNEL void shade_surface8(WP_GLOBAL const Ray* rays_in, WP_GLOBAL const Path
             const L3 ng = l3_select(l3_neg(n), n, front);
             const L3 ns = ng;
             L3 perr;
-            const L3 p = wp_hit_point8(v0, v1, v2, hit_u, hit_v, &perr);
+            const L3 p = wp_hit_point8(v0, v1, v2, vload8(0, hu), vload8(0, hv), &perr);
             const L3 org = wp_offset_ray_origin8(p, perr, ng, tri_offset);
             const L3 org_below = wp_offset_ray_origin8(p, perr, l3_neg(ng), tri_offset);
 
@@ -753,25 +758,29 @@ WP_KERNEL void shade_surface8(WP_GLOBAL const Ray* rays_in, WP_GLOBAL const Path
                 wp_rng4_lanes(seed, pixel, sample, (uint)bounce, WP_RNG_LIGHT, &ulx, &uly, &ulz, &ulw);
                 float ulz_a[8];
                 vstore8(ulz, 0, ulz_a);
-                float4 l0_a[8], l1_a[8], l2_a[8], lframe_a[8], le_a[8];
-                float lpa[8];
+                float l0x[8], l0y[8], l0z[8], l1x[8], l1y[8], l1z[8], l2x[8], l2y[8], l2z[8];
+                float lnx[8], lny[8], lnz[8], loff[8], lpa[8], lex[8], ley[8], lez[8];
 #pragma unroll
                 for (int l = 0; l < 8; ++l) {
                     int li = wp_light_pick(light_cdf, light_count, light_guide, light_guide_size, ulz_a[l]);
                     int lp = light_prims[li];
                     Triangle lt = tris[lp];
-                    l0_a[l] = lt.v0, l1_a[l] = lt.v1, l2_a[l] = lt.v2;
-                    lframe_a[l] = tri_frames[lp];
+                    float4 lf = tri_frames[lp];
+                    float4 le = materials[material_ids[lp]].emission;
+                    l0x[l] = lt.v0.x, l0y[l] = lt.v0.y, l0z[l] = lt.v0.z;
+                    l1x[l] = lt.v1.x, l1y[l] = lt.v1.y, l1z[l] = lt.v1.z;
+                    l2x[l] = lt.v2.x, l2y[l] = lt.v2.y, l2z[l] = lt.v2.z;
+                    lnx[l] = lf.x, lny[l] = lf.y, lnz[l] = lf.z, loff[l] = lf.w;
                     lpa[l] = light_pdf_area[lp];
-                    le_a[l] = materials[material_ids[lp]].emission;
+                    lex[l] = le.x, ley[l] = le.y, lez[l] = le.z;
                 }
-                L3 ln;
-                float8 l_offset;
-                wp_transpose8x4(lframe_a, &ln.x, &ln.y, &ln.z, &l_offset);
+                const L3 ln = l3(vload8(0, lnx), vload8(0, lny), vload8(0, lnz));
                 // wp_sample_triangle_barycentric
                 const float8 s = sqrt(ulx);
                 L3 yerr;
-                const L3 y = wp_hit_point8(wp_lanes_xyz(l0_a), wp_lanes_xyz(l1_a), wp_lanes_xyz(l2_a),
+                const L3 y = wp_hit_point8(l3(vload8(0, l0x), vload8(0, l0y), vload8(0, l0z)),
+                                           l3(vload8(0, l1x), vload8(0, l1y), vload8(0, l1z)),
+                                           l3(vload8(0, l2x), vload8(0, l2y), vload8(0, l2z)),
                                            uly * s, 1.0f - s, &yerr);
                 const L3 to = l3_sub(y, p);
                 const float8 dist2 = l3_dot(to, to);
@@ -793,7 +802,7 @@ WP_KERNEL void shade_surface8(WP_GLOBAL const Ray* rays_in, WP_GLOBAL const Path
 #else
                     const float8 w = 1.0f;
 #endif
-                    const L3 le = wp_lanes_xyz(le_a);
+                    const L3 le = l3(vload8(0, lex), vload8(0, ley), vload8(0, lez));
                     const L3 c = l3_scale(l3_mul(l3_mul(beta, fcos), le), w / p_light);
                     const int8 c_finite = l3_all_finite(c);
                     wp_count_nonfinite8(lit & ~c_finite, counters);
@@ -802,7 +811,7 @@ WP_KERNEL void shade_surface8(WP_GLOBAL const Ray* rays_in, WP_GLOBAL const Path
                     // point, ending short of it (offset.h).
                     const L3 so = l3_select(org_below, org, l3_dot(wi, ng) > 0.0f);
                     const L3 sd = l3_sub(y, so);
-                    const float8 tmax = wp_shadow_tmax8(sd, yerr, ln, l_offset);
+                    const float8 tmax = wp_shadow_tmax8(sd, yerr, ln, vload8(0, loff));
                     shadow_bits = wp_lane_bits(shadow);
                     vstore8(so.x, 0, sox), vstore8(so.y, 0, soy), vstore8(so.z, 0, soz);
                     vstore8(sd.x, 0, sdx), vstore8(sd.y, 0, sdy), vstore8(sd.z, 0, sdz);

@@ -63,26 +63,6 @@ WP_FN int wp_lane_bits(int8 m) {
     return r;
 }
 
-// The four components of eight float4 (a[l]: lane l) as float8 lanes: a 4x8 transpose in
-// eight shuffles (built element by element, LLVM 15 spent one insert per element).
-WP_FN void wp_transpose8x4(const float4* a, float8* x, float8* y, float8* z, float8* w) {
-    const float8 p0 = (float8)(a[0], a[1]), p1 = (float8)(a[2], a[3]);
-    const float8 p2 = (float8)(a[4], a[5]), p3 = (float8)(a[6], a[7]);
-    const uint8 lo = (uint8)(0, 4, 8, 12, 1, 5, 9, 13), hi = (uint8)(2, 6, 10, 14, 3, 7, 11, 15);
-    const float8 xy0 = shuffle2(p0, p1, lo), zw0 = shuffle2(p0, p1, hi);  // lanes 0-3
-    const float8 xy1 = shuffle2(p2, p3, lo), zw1 = shuffle2(p2, p3, hi);  // lanes 4-7
-    *x = (float8)(xy0.lo, xy1.lo);
-    *y = (float8)(xy0.hi, xy1.hi);
-    *z = (float8)(zw0.lo, zw1.lo);
-    *w = (float8)(zw0.hi, zw1.hi);
-}
-// The xyz lanes of eight float4.
-WP_FN L3 wp_lanes_xyz(const float4* a) {
-    float8 x, y, z, w;
-    wp_transpose8x4(a, &x, &y, &z, &w);
-    return l3(x, y, z);
-}
-
 // offset.h
 WP_FN float8 wp_next_float_up8(float8 x) {
     int8 b = as_int8(x);
