@@ -576,14 +576,63 @@ WP_KERNEL void shade_triangle_frames(WP_GLOBAL const Triangle* tris, int count,
 // (work-item w: entries 8 w .. 8 w + 7) where KernelConfig::shade_lanes() says it models
 // the scene: the kinds, features and debug switches it has no lane code for are refused
 // here at compile time.
-#if WP_HAVE_MIRROR || WP_HAVE_GLOSSY || WP_HAVE_GLASS || WP_HAVE_CONDUCTOR ||            \
-    WP_HAVE_ROUGH_CONDUCTOR || WP_HAVE_ROUGH_DIELECTRIC || WP_HAVE_THIN_DIELECTRIC ||     \
-    WP_HAVE_PLASTIC || WP_HAVE_ROUGH_PLASTIC || WP_HAVE_NORMALS || WP_HAVE_TEXTURES ||    \
-    WP_HAVE_NORMAL_MAPS || WP_HAVE_ENV || WP_HAVE_ANISOTROPY || WP_INJECT_NAN
-#error "shade_surface8 models diffuse triangles without appearance features (KernelConfig::shade_lanes)"
+#if WP_HAVE_GLASS || WP_HAVE_CONDUCTOR || WP_HAVE_ROUGH_CONDUCTOR ||                      \
+    WP_HAVE_ROUGH_DIELECTRIC || WP_HAVE_THIN_DIELECTRIC || WP_HAVE_PLASTIC ||               \
+    WP_HAVE_ROUGH_PLASTIC || WP_HAVE_TEXTURES || WP_HAVE_NORMAL_MAPS || WP_HAVE_ENV ||      \
+    WP_HAVE_ANISOTROPY || WP_INJECT_NAN
+#error "shade_surface8 models diffuse, mirror and glossy triangles, shading normals and no other appearance feature (KernelConfig::shade_lanes)"
 #endif
 #include "shared/lanes.h"
 #include "shared/rng_lanes.h"
+
+// STAND-INS until lanes.h has them: the glossy BSDF lane by lane.
+WP_FN L3 wp_reflect8(L3 d, L3 n) { return l3_sub(d, l3_scale(n, 2.0f * l3_dot(d, n))); }
+WP_FN int8 wp_glossy_sample8(L3 albedo, float8 alpha, L3 d, L3 ns, float8 u1, float8 u2,
+                             L3* wo, L3* weight, float8* pdf) {
+    float a[8][14];
+    int ok[8];
+    float ax[8], ay[8], az[8], al[8], dx[8], dy[8], dz[8], nx[8], ny[8], nz[8], ua[8], ub[8];
+    vstore8(albedo.x, 0, ax), vstore8(albedo.y, 0, ay), vstore8(albedo.z, 0, az), vstore8(alpha, 0, al);
+    vstore8(d.x, 0, dx), vstore8(d.y, 0, dy), vstore8(d.z, 0, dz);
+    vstore8(ns.x, 0, nx), vstore8(ns.y, 0, ny), vstore8(ns.z, 0, nz), vstore8(u1, 0, ua), vstore8(u2, 0, ub);
+    float wx[8], wy[8], wz[8], gx[8], gy[8], gz[8], pp[8];
+    for (int l = 0; l < 8; ++l) {
+        MaterialData m;
+        m.kind = WP_MATERIAL_GLOSSY;
+        m.albedo = make_float4(ax[l], ay[l], az[l], 0.0f);
+        m.alpha = m.alpha_v = al[l];
+        float3 w = make_float3(0.0f, 0.0f, 0.0f), g = w;
+        float pd = 0.0f;
+        int sp = 0;
+        ok[l] = wp_glossy_sample(m, 0, make_float3(dx[l], dy[l], dz[l]), make_float3(nx[l], ny[l], nz[l]), 1,
+                                 make_float4(ua[l], ub[l], 0.0f, 0.0f), &w, &g, &pd, &sp) ? -1 : 0;
+        wx[l] = w.x, wy[l] = w.y, wz[l] = w.z, gx[l] = g.x, gy[l] = g.y, gz[l] = g.z, pp[l] = pd;
+    }
+    *wo = l3(vload8(0, wx), vload8(0, wy), vload8(0, wz));
+    *weight = l3(vload8(0, gx), vload8(0, gy), vload8(0, gz));
+    *pdf = vload8(0, pp);
+    return vload8(0, ok);
+}
+WP_FN L3 wp_glossy_eval8(L3 albedo, float8 alpha, L3 d, L3 ns, L3 wi, float8 cos_i, float8* pdf) {
+    float ax[8], ay[8], az[8], al[8], dx[8], dy[8], dz[8], nx[8], ny[8], nz[8], ix[8], iy[8], iz[8];
+    vstore8(albedo.x, 0, ax), vstore8(albedo.y, 0, ay), vstore8(albedo.z, 0, az), vstore8(alpha, 0, al);
+    vstore8(d.x, 0, dx), vstore8(d.y, 0, dy), vstore8(d.z, 0, dz);
+    vstore8(ns.x, 0, nx), vstore8(ns.y, 0, ny), vstore8(ns.z, 0, nz);
+    vstore8(wi.x, 0, ix), vstore8(wi.y, 0, iy), vstore8(wi.z, 0, iz);
+    float fx[8], fy[8], fz[8], pp[8];
+    for (int l = 0; l < 8; ++l) {
+        MaterialData m;
+        m.kind = WP_MATERIAL_GLOSSY;
+        m.albedo = make_float4(ax[l], ay[l], az[l], 0.0f);
+        m.alpha = m.alpha_v = al[l];
+        float pd = 0.0f;
+        float3 f = wp_bsdf_eval(m, 0, make_float3(dx[l], dy[l], dz[l]), make_float3(nx[l], ny[l], nz[l]), 1,
+                                make_float3(ix[l], iy[l], iz[l]), &pd);
+        fx[l] = f.x, fy[l] = f.y, fz[l] = f.z, pp[l] = pd;
+    }
+    *pdf = vload8(0, pp);
+    return l3(vload8(0, fx), vload8(0, fy), vload8(0, fz));
+}
 
 // Counts the lanes of mask m in counters[WP_COUNTER_SHADE_NONFINITE].
 WP_FN void wp_count_nonfinite8(int8 m, WP_GLOBAL int* counters) {
@@ -686,6 +735,8 @@ WP_KERNEL void shade_surface8(WP_GLOBAL const Ray* rays_in, WP_GLOBAL const Path
         // Surface: the triangle, its frame and material (misses read triangle 0, unused).
         float v0x[8], v0y[8], v0z[8], v1x[8], v1y[8], v1z[8], v2x[8], v2y[8], v2z[8];
         float nx[8], ny[8], nz[8], toff[8], ax[8], ay[8], az[8], ex[8], ey[8], ez[8], pa[8];
+        float alpha_a[8];
+        int kind_a[8];
 #pragma unroll
         for (int l = 0; l < 8; ++l) {
             int t = max(prim_a[l], 0);
@@ -693,6 +744,8 @@ WP_KERNEL void shade_surface8(WP_GLOBAL const Ray* rays_in, WP_GLOBAL const Path
             float4 f = tri_frames[t];
             int mid = material_ids[t];
             float4 alb = materials[mid].albedo, em = materials[mid].emission;
+            kind_a[l] = materials[mid].kind;
+            alpha_a[l] = materials[mid].alpha;
             v0x[l] = tri.v0.x, v0y[l] = tri.v0.y, v0z[l] = tri.v0.z;
             v1x[l] = tri.v1.x, v1y[l] = tri.v1.y, v1z[l] = tri.v1.z;
             v2x[l] = tri.v2.x, v2y[l] = tri.v2.y, v2z[l] = tri.v2.z;
@@ -711,6 +764,12 @@ WP_KERNEL void shade_surface8(WP_GLOBAL const Ray* rays_in, WP_GLOBAL const Path
         const L3 n = l3(vload8(0, nx), vload8(0, ny), vload8(0, nz));
         const float8 tri_offset = vload8(0, toff);
         const L3 albedo = l3(vload8(0, ax), vload8(0, ay), vload8(0, az));
+        const int8 kind = vload8(0, kind_a);
+        const float8 alpha = vload8(0, alpha_a);
+        // The lanes of each kind (kinds the scene lacks compile to no lanes).
+        const int8 diffuse = WP_HAVE_DIFFUSE ? kind == WP_MATERIAL_DIFFUSE : (int8)(0);
+        const int8 glossy = WP_HAVE_GLOSSY ? kind == WP_MATERIAL_GLOSSY : (int8)(0);
+        const int8 mirror = WP_HAVE_MIRROR ? kind == WP_MATERIAL_MIRROR : (int8)(0);
         const int8 front = l3_dot(d, n) < 0.0f;
         const L3 dn = l3_scale(d, 1.0f / sqrt(l3_dot(d, d)));  // normalize(d)
         const float p_env = wp_env_choice(light_count, env);
@@ -741,19 +800,45 @@ WP_KERNEL void shade_surface8(WP_GLOBAL const Ray* rays_in, WP_GLOBAL const Path
         if (bounce >= max_depth) alive = (int8)(0);
 
         if (wp_lane_bits(alive)) {
-            // ng: the geometric normal on the side the ray arrived from; ns = ng (no shading
-            // normals in this kernel).
+            // ng: the geometric normal on the side the ray arrived from; ns: the shading
+            // normal on that side (ng itself without shading normals).
             const L3 ng = l3_select(l3_neg(n), n, front);
-            const L3 ns = ng;
+            L3 ns = ng;
+#if WP_HAVE_NORMALS
+            // As shade_surface (no normal maps here): the terminator factor and the bend only
+            // for smooth triangles, the bend always where the viewer sees the back of ns and
+            // for non-diffuse lobes where the mirror direction falls below.
+            int8 terminator;
+            {
+                float n0x[8], n0y[8], n0z[8], n1x[8], n1y[8], n1z[8], n2x[8], n2y[8], n2z[8];
+#pragma unroll
+                for (int l = 0; l < 8; ++l) {
+                    TriNormals tn = tri_normals[max(prim_a[l], 0)];
+                    n0x[l] = tn.n0.x, n0y[l] = tn.n0.y, n0z[l] = tn.n0.z;
+                    n1x[l] = tn.n1.x, n1y[l] = tn.n1.y, n1z[l] = tn.n1.z;
+                    n2x[l] = tn.n2.x, n2y[l] = tn.n2.y, n2z[l] = tn.n2.z;
+                }
+                const L3 nf = wp_interpolated_normal8(l3(vload8(0, n0x), vload8(0, n0y), vload8(0, n0z)),
+                                                      l3(vload8(0, n1x), vload8(0, n1y), vload8(0, n1z)),
+                                                      l3(vload8(0, n2x), vload8(0, n2y), vload8(0, n2z)),
+                                                      vload8(0, hu), vload8(0, hv), n);
+                ns = l3_select(l3_neg(nf), nf, front);
+                const int8 smooth = (nf.x != n.x) | (nf.y != n.y) | (nf.z != n.z);
+                terminator = smooth;
+                const int8 bend = smooth & (~diffuse | (l3_dot(l3_neg(dn), ns) <= 0.0f));
+                if (wp_lane_bits(bend)) ns = l3_select(ns, wp_bend_normal8(ns, ng, l3_neg(dn)), bend);
+            }
+#endif
             L3 perr;
             const L3 p = wp_hit_point8(v0, v1, v2, vload8(0, hu), vload8(0, hv), &perr);
             const L3 org = wp_offset_ray_origin8(p, perr, ng, tri_offset);
             const L3 org_below = wp_offset_ray_origin8(p, perr, l3_neg(ng), tri_offset);
 
 #if WP_HAVE_NEE
-            // Next-event estimation (diffuse is never specular): a point on a light chosen by
+            // Next-event estimation at the non-specular lanes: a point on a light chosen by
             // power; the shadow stage adds the contribution when the segment is unoccluded.
-            if (light_count > 0) {
+            const int8 sampled = alive & ~mirror;
+            if (light_count > 0 && wp_lane_bits(sampled)) {
                 float8 ulx, uly, ulz, ulw;
                 wp_rng4_lanes(seed, pixel, sample, (uint)bounce, WP_RNG_LIGHT, &ulx, &uly, &ulz, &ulw);
                 float ulz_a[8];
@@ -786,16 +871,32 @@ WP_KERNEL void shade_surface8(WP_GLOBAL const Ray* rays_in, WP_GLOBAL const Path
                 const float8 dist2 = l3_dot(to, to);
                 const L3 wi = l3_scale(to, 1.0f / sqrt(dist2));
                 const float8 p_light = wp_light_pdf_solid_angle8(vload8(0, lpa) * (1.0f - p_env), dist2, -l3_dot(wi, ln));
-                // wp_bsdf_eval of a diffuse surface: albedo cos / π above it, else 0.
+                // wp_bsdf_eval: diffuse, albedo cos / π above the surface; glossy (lanes.h).
                 const float8 cos_i = l3_dot(wi, ns);
                 const int8 above = cos_i > 0.0f;
 #if WP_SAMPLING == WP_SAMPLING_UNIFORM
-                const float8 bsdf_pdf = select((float8)(0.0f), (float8)(WP_INV_2PI), above);
+                float8 bsdf_pdf = select((float8)(0.0f), (float8)(WP_INV_2PI), above);
 #else
-                const float8 bsdf_pdf = select((float8)(0.0f), wp_cosine_hemisphere_pdf8(cos_i), above);
+                float8 bsdf_pdf = select((float8)(0.0f), wp_cosine_hemisphere_pdf8(cos_i), above);
 #endif
-                const L3 fcos = l3_select(l3_splat(0.0f, 0.0f, 0.0f), l3_scale(albedo, cos_i * WP_INV_PI), above);
-                const int8 lit = alive & (p_light > 0.0f) & (l3_max_component(fcos) > 0.0f);
+                L3 fcos = l3_select(l3_splat(0.0f, 0.0f, 0.0f), l3_scale(albedo, cos_i * WP_INV_PI), above);
+#if WP_HAVE_GLOSSY
+                if (wp_lane_bits(glossy & sampled)) {
+                    float8 gpdf;
+                    const L3 gf = wp_glossy_eval8(albedo, alpha, dn, ns, wi, cos_i, &gpdf);
+                    fcos = l3_select(fcos, gf, glossy);
+                    bsdf_pdf = select(bsdf_pdf, gpdf, glossy);
+                }
+#endif
+#if WP_HAVE_NORMALS
+                // Light on the geometric side of the lobe only (failure mode 2), and the
+                // terminator factor (3).
+                fcos = l3_select(l3_splat(0.0f, 0.0f, 0.0f), fcos, wp_same_side8(wi, ns, ng));
+                bsdf_pdf = select((float8)(0.0f), bsdf_pdf, wp_same_side8(wi, ns, ng));
+                if (wp_lane_bits(terminator & sampled))
+                    fcos = l3_select(fcos, l3_scale(fcos, wp_terminator_factor8(ng, ns, wi)), terminator);
+#endif
+                const int8 lit = sampled & (p_light > 0.0f) & (l3_max_component(fcos) > 0.0f);
                 if (wp_lane_bits(lit)) {
 #if WP_SAMPLING == WP_SAMPLING_MIS
                     const float8 w = wp_power_heuristic8(p_light, bsdf_pdf);
@@ -821,20 +922,49 @@ WP_KERNEL void shade_surface8(WP_GLOBAL const Ray* rays_in, WP_GLOBAL const Path
             }
 #endif
 
-            // Scatter: a diffuse direction around ns (wp_diffuse_sample).
+            // Scatter: each lane samples its material (wp_bsdf_sample_pdf).
             float8 ux, uy, uz, uw;
             wp_rng4_lanes(seed, pixel, sample, (uint)bounce, WP_RNG_BSDF, &ux, &uy, &uz, &uw);
 #if WP_SAMPLING == WP_SAMPLING_UNIFORM
             const L3 lv = wp_sample_uniform_hemisphere8(ux, uy);
-            const L3 weight = l3_scale(albedo, 2.0f * lv.z);
-            const float8 pdf = WP_INV_2PI;
+            L3 weight = l3_scale(albedo, 2.0f * lv.z);
+            float8 pdf = WP_INV_2PI;
 #else
             const L3 lv = wp_sample_cosine_hemisphere8(ux, uy);
-            const L3 weight = albedo;
-            const float8 pdf = wp_cosine_hemisphere_pdf8(lv.z);
+            L3 weight = albedo;
+            float8 pdf = wp_cosine_hemisphere_pdf8(lv.z);
 #endif
-            const L3 wo = wp_to_world8(lv, ns);
-            alive &= pdf > 0.0f;  // a zero-density draw (measure zero): absorbed
+            L3 wo = wp_to_world8(lv, ns);
+#if WP_HAVE_GLOSSY
+            if (wp_lane_bits(glossy & alive)) {
+                L3 gwo, gweight;
+                float8 gpdf;
+                const int8 scattered = wp_glossy_sample8(albedo, alpha, dn, ns, ux, uy, &gwo, &gweight, &gpdf);
+                alive &= ~glossy | scattered;  // a glossy draw below the surface: absorbed
+                wo = l3_select(wo, gwo, glossy);
+                weight = l3_select(weight, gweight, glossy);
+                pdf = select(pdf, gpdf, glossy);
+            }
+#endif
+#if WP_HAVE_MIRROR
+            if (wp_lane_bits(mirror & alive)) {
+                wo = l3_select(wo, wp_reflect8(dn, ns), mirror);
+                weight = l3_select(weight, albedo, mirror);
+                pdf = select(pdf, (float8)(0.0f), mirror);
+            }
+            const int8 specular = mirror;
+#else
+            const int8 specular = (int8)(0);
+#endif
+            alive &= specular | (pdf > 0.0f);  // a zero-density draw (measure zero): absorbed
+#if WP_HAVE_NORMALS
+            // A reflection below the geometric surface is absorbed (failure mode 2);
+            // non-specular reflections get the terminator factor (3).
+            alive &= wp_same_side8(wo, ns, ng);
+            const int8 shadowed = terminator & ~specular & (l3_dot(wo, ng) > 0.0f);
+            if (wp_lane_bits(shadowed & alive))
+                weight = l3_select(weight, l3_scale(weight, wp_terminator_factor8(ng, ns, wo)), shadowed);
+#endif
             beta = l3_mul(beta, weight);
             const int8 scatter_finite = l3_all_finite(beta) & l3_all_finite(wo);
             wp_count_nonfinite8(alive & ~scatter_finite, counters);
@@ -849,13 +979,14 @@ WP_KERNEL void shade_surface8(WP_GLOBAL const Ray* rays_in, WP_GLOBAL const Path
                 beta = l3_scale(beta, 1.0f / q);
             }
 #endif
-            // The continued path, from the origin on the geometric side it leaves.
+            // The continued path, from the origin on the geometric side it leaves; w: the
+            // density of wo, 0 after a Dirac lobe (PathState).
             const L3 on = l3_select(org_below, org, l3_dot(wo, ng) > 0.0f);
             push_bits = wp_lane_bits(alive);
             vstore8(on.x, 0, nox), vstore8(on.y, 0, noy), vstore8(on.z, 0, noz);
             vstore8(wo.x, 0, ndx), vstore8(wo.y, 0, ndy), vstore8(wo.z, 0, ndz);
             vstore8(beta.x, 0, nbx), vstore8(beta.y, 0, nby), vstore8(beta.z, 0, nbz);
-            vstore8(pdf, 0, npdf);
+            vstore8(select(pdf, (float8)(0.0f), specular), 0, npdf);
         }
     }
 
@@ -872,7 +1003,7 @@ WP_KERNEL void shade_surface8(WP_GLOBAL const Ray* rays_in, WP_GLOBAL const Path
             r.org = make_float4(nox[l], noy[l], noz[l], 0.0f);
             r.dir = make_float4(ndx[l], ndy[l], ndz[l], FLT_MAX);
             PathState np = ps[l];
-            np.throughput = make_float4(nbx[l], nby[l], nbz[l], npdf[l]);  // diffuse: never specular
+            np.throughput = make_float4(nbx[l], nby[l], nbz[l], npdf[l]);
             rays_out[slot] = r;
             paths_out[slot] = np;
             ++slot;

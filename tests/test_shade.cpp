@@ -650,10 +650,11 @@ TEST_CASE("shade (shipped configuration): Russian roulette keeps paths with prob
 }
 
 // shade_surface8 (eight paths per work-item, kernels/shared/lanes.h) is a second spelling of
-// shade_surface for diffuse scenes: on random hits — triangles from 1e-3 to 1e3 units,
-// emitters seen from both sides, misses, paths that arrived by a Dirac lobe, non-finite
-// throughputs, a queue length that is not a multiple of eight — every output bit must equal
-// shade_surface's, in every estimator the lane kernel compiles.
+// shade_surface for scenes of diffuse, glossy and mirror triangles with or without shading
+// normals: on random hits — triangles from 1e-3 to 1e3 units, emitters seen from both
+// sides, vertex normals bent far from the face (some reversed), misses, paths that arrived
+// by a Dirac lobe, non-finite throughputs, a queue length that is not a multiple of eight —
+// every output bit must equal shade_surface's, in every estimator and glossy model.
 TEST_CASE("shade: eight paths per work-item give shade_surface's bits", "[kernel][shade]") {
     std::mt19937 rng(0x5eed8);
     std::uniform_real_distribution<float> u01(0.0f, 1.0f);
@@ -671,8 +672,25 @@ TEST_CASE("shade: eight paths per work-item give shade_surface's bits", "[kernel
         base.tris.push_back({vert(), vert(), vert()});
         const bool light = t < lights;
         base.material_ids.push_back(t);
-        base.materials.push_back(material(WP_MATERIAL_DIFFUSE, {u01(rng), u01(rng), u01(rng)},
-                                          light ? glm::vec3(1 + 9 * u01(rng), 2, 3 * u01(rng)) : glm::vec3(0)));
+        const int kind = light ? WP_MATERIAL_DIFFUSE : (t % 3 == 0 ? WP_MATERIAL_DIFFUSE : t % 3 == 1 ? WP_MATERIAL_GLOSSY : WP_MATERIAL_MIRROR);
+        MaterialData m = material(kind, {u01(rng), u01(rng), u01(rng)},
+                                  light ? glm::vec3(1 + 9 * u01(rng), 2, 3 * u01(rng)) : glm::vec3(0));
+        if (kind == WP_MATERIAL_GLOSSY) m.alpha = m.alpha_v = std::pow(10.0f, -2.0f * u01(rng));
+        base.materials.push_back(m);
+        // Shading normals: none (zero) on every other triangle, else the face normal bent
+        // by up to ~35 degrees per vertex (one vertex normal reversed now and then).
+        TriNormals tn{};
+        if (t % 2 == 1) {
+            const Triangle& tr = base.tris.back();
+            const glm::vec3 fn = glm::normalize(glm::cross(v3(tr.v1) - v3(tr.v0), v3(tr.v2) - v3(tr.v0)));
+            float4* rows[3] = {&tn.n0, &tn.n1, &tn.n2};
+            for (int k = 0; k < 3; ++k) {
+                glm::vec3 vn = fn + 0.7f * glm::vec3(u01(rng) - 0.5f, u01(rng) - 0.5f, u01(rng) - 0.5f);
+                if (t % 7 == 3 && k == 0) vn = -vn;
+                *rows[k] = {vn.x, vn.y, vn.z, 0};
+            }
+        }
+        base.normals.push_back(tn);
         if (light) {
             base.light_prims.push_back(t);
             weights.push_back(0.5f + u01(rng));
@@ -708,14 +726,18 @@ TEST_CASE("shade: eight paths per work-item give shade_surface's bits", "[kernel
     base.background = {0.25f, 0.5f, 0.75f, 0};
     std::vector<render::Estimator> estimators = {render::Estimator{}, render::Estimator::original(),
                                                  {render::Sampling::Nee, render::GlossyModel::Ggx, true, 1},
-                                                 {render::Sampling::Cosine, render::GlossyModel::Ggx, false, 0}};
-    for (const render::Estimator& e : estimators) {
+                                                 {render::Sampling::Cosine, render::GlossyModel::Phong, false, 0}};
+    for (const render::Estimator& e : estimators)
+    for (bool normals : {false, true}) {
         for (int bounce : {0, 1, 4}) {
             ShadeCase scalar = base;
             scalar.config = render::KernelConfig{};
             scalar.config.kinds.reset();
-            scalar.config.kinds.set(static_cast<std::size_t>(MaterialKind::Diffuse));
+            for (MaterialKind k : {MaterialKind::Diffuse, MaterialKind::Mirror, MaterialKind::Glossy})
+                scalar.config.kinds.set(static_cast<std::size_t>(k));
             scalar.config.estimator = e;
+            scalar.config.normals = normals;
+            if (!normals) scalar.normals.clear();
             scalar.bounce = bounce;
             scalar.max_depth = bounce == 4 ? 4 : 8;  // at the depth limit: emission only
             scalar.seed = 11u + unsigned(bounce);
@@ -724,7 +746,8 @@ TEST_CASE("shade: eight paths per work-item give shade_surface's bits", "[kernel
             REQUIRE(lanes.config.shade_lanes());
             REQUIRE_FALSE(scalar.config.shade_lanes());
             const ShadeOut a = run_shade(scalar), b = run_shade(lanes);
-            INFO("sampling " << render::sampling_name(e.sampling) << ", bounce " << bounce);
+            INFO("sampling " << render::sampling_name(e.sampling) << ", glossy "
+                             << render::glossy_name(e.glossy) << ", normals " << normals << ", bounce " << bounce);
             CHECK(a.count == b.count);
             CHECK(a.shadow_rays.size() == b.shadow_rays.size());
             CHECK(a.counters == b.counters);
@@ -739,9 +762,16 @@ TEST_CASE("shade: eight paths per work-item give shade_surface's bits", "[kernel
     k.lanes = true;
     CHECK_FALSE(k.shade_lanes());  // every kind
     k.kinds.reset();
-    k.kinds.set(static_cast<std::size_t>(MaterialKind::Diffuse));
+    for (MaterialKind kind : {MaterialKind::Diffuse, MaterialKind::Mirror, MaterialKind::Glossy})
+        k.kinds.set(static_cast<std::size_t>(kind));
+    k.normals = true;
     CHECK(k.shade_lanes());
-    for (auto feature : {&render::KernelConfig::normals, &render::KernelConfig::textures,
+    for (MaterialKind kind : {MaterialKind::Glass, MaterialKind::Plastic, MaterialKind::RoughConductor}) {
+        render::KernelConfig f = k;
+        f.kinds.set(static_cast<std::size_t>(kind));
+        CHECK_FALSE(f.shade_lanes());
+    }
+    for (auto feature : {&render::KernelConfig::textures,
                          &render::KernelConfig::normal_maps, &render::KernelConfig::env,
                          &render::KernelConfig::anisotropic}) {
         render::KernelConfig f = k;

@@ -146,6 +146,39 @@ WP_FN float8 wp_power_heuristic8(float8 pa, float8 pb) {
     return select((float8)(0.0f), 1.0f / (1.0f + r * r), pa > 0.0f);
 }
 
+// shading.h (the failure modes of shading normals)
+// wp_interpolated_normal: n0..n2 the vertex normals' lanes, ng_front the face normal.
+WP_FN L3 wp_interpolated_normal8(L3 n0, L3 n1, L3 n2, float8 u, float8 v, L3 ng_front) {
+    const float8 w = 1.0f - u - v;
+    L3 n = l3_add(l3_add(l3_scale(n0, w), l3_scale(n1, u)), l3_scale(n2, v));
+    const float8 l2 = l3_dot(n, n);
+    const int8 none = ~(l2 > 1e-30f) | ~isfinite(l2);
+    n = l3_scale(n, 1.0f / sqrt(l2));
+    n = l3_select(n, l3_neg(n), l3_dot(n, ng_front) < 0.0f);
+    return l3_select(n, ng_front, none);
+}
+WP_FN L3 wp_bend_normal8(L3 ns, L3 ng, L3 wo) {
+    const float8 c = l3_dot(wo, ns);
+    const L3 r = l3_sub(l3_scale(ns, 2.0f * c), wo);
+    const int8 keep = (c > 0.0f) & (l3_dot(r, ng) >= WP_BEND_EPS);
+    const L3 rt = l3_sub(r, l3_scale(ng, l3_dot(r, ng)));
+    const float8 tl2 = l3_dot(rt, rt);
+    const L3 r2 = l3_select(ng, l3_add(l3_scale(rt, sqrt(1.0f - WP_BEND_EPS * WP_BEND_EPS) / sqrt(tl2)),
+                                        l3_scale(ng, (float8)(WP_BEND_EPS))),
+                            tl2 > 1e-20f);
+    const L3 h = l3_add(wo, r2);
+    const float8 hl2 = l3_dot(h, h);
+    const L3 bent = l3_select(ng, l3_scale(h, 1.0f / sqrt(hl2)), hl2 > 1e-30f);
+    return l3_select(bent, ns, keep);
+}
+WP_FN int8 wp_same_side8(L3 w, L3 ns, L3 ng) { return (l3_dot(w, ns) > 0.0f) == (l3_dot(w, ng) > 0.0f); }
+WP_FN float8 wp_terminator_factor8(L3 ng, L3 ns, L3 wi) {
+    const float8 nsi = l3_dot(ns, wi), ngs = l3_dot(ng, ns);
+    const float8 g = min(1.0f, l3_dot(ng, wi) / (nsi * ngs));
+    const float8 f = select((float8)(0.0f), g * (1.0f + g * (1.0f - g)), g > 0.0f);
+    return select((float8)(1.0f), f, (nsi > 0.0f) & (ngs > 0.0f));
+}
+
 WP_NAMESPACE_END
 
 #endif  // WP_OPENCL

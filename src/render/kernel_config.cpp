@@ -124,10 +124,11 @@ std::string KernelConfig::shade_options() const {
 
 bool KernelConfig::shade_lanes() const {
     // Keep in step with the #error list of shade_surface8 (kernels/shade.cl).
-    std::bitset<kMaterialKindCount> diffuse;
-    diffuse.set(static_cast<std::size_t>(MaterialKind::Diffuse));
-    return lanes && (kinds & ~diffuse).none() && !normals && !textures && !normal_maps && !env &&
-           !anisotropic && inject_nan == 0;
+    std::bitset<kMaterialKindCount> modelled;
+    for (MaterialKind k : {MaterialKind::Diffuse, MaterialKind::Mirror, MaterialKind::Glossy})
+        modelled.set(static_cast<std::size_t>(k));
+    return lanes && (kinds & ~modelled).none() && !textures && !normal_maps && !env && !anisotropic &&
+           inject_nan == 0;
 }
 
 std::string KernelConfig::trace_options() const {

@@ -112,8 +112,8 @@ struct KernelConfig {
     std::string trace_options() const;       // intersect and shadow: alpha cut-outs
     std::string aov_options() const;         // aov (render/aov.h): normals, textures, normal maps
     // Shade runs shade_surface8, eight paths per work-item (kernels/shared/lanes.h): lanes
-    // are allowed and the lane kernel models the configuration — diffuse surfaces only, no
-    // appearance feature, no NaN injection. Adds -D WP_SHADE_LANES=1 to shade_options().
+    // are allowed and the lane kernel models the configuration — diffuse, mirror and glossy
+    // surfaces, shading normals, no other appearance feature, no NaN injection. Adds -D WP_SHADE_LANES=1 to shade_options().
     bool shade_lanes() const;
     // Some material kind the scene has is specular in every event (material_kinds.h).
     bool any_specular() const;
