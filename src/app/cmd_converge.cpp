@@ -123,7 +123,7 @@ Config parse_config(const std::string& spec) {
     try {
         parser.parse(options, false);
     } catch (const CLI::ParseError& e) {
-        usage_fail("--config '{}': {} (a configuration takes --depth, --size, --device, --traversal, --sampling, --glossy, --sampler, --rr-depth, --pool, --kernels, --adaptive, --adaptive-threshold, --min-spp, --replicates, --denoise)",
+        usage_fail("--config '{}': {} (a configuration takes --depth, --size, --device, --traversal, --sampling, --glossy, --sampler, --rr-depth, --pool, --kernels, --shade-lanes, --adaptive, --adaptive-threshold, --min-spp, --replicates, --denoise)",
              spec, e.what());
     }
     return c;
@@ -349,7 +349,7 @@ Subcommand add_converge(CLI::App& app) {
     c->add_option("--config", args->configs,
                   "A configuration NAME=OPTIONS, OPTIONS being render options (--depth, --size, "
                   "--device, --traversal, --sampling, --glossy, --sampler, --rr-depth, --pool, "
-                  "--kernels, --adaptive, --adaptive-threshold, --min-spp, --replicates, --denoise), e.g. \"d2=--depth 2 "
+                  "--kernels, --shade-lanes, --adaptive, --adaptive-threshold, --min-spp, --replicates, --denoise), e.g. \"d2=--depth 2 "
                   "--size 200x150\" or \"adaptive=--adaptive --adaptive-threshold 1e-3\"; repeatable. "
                   "With --adaptive the spp column is the most samples a pixel got and mean_spp the mean; "
                   "with --denoise the error is the denoised image's (biased) and its seconds include "
