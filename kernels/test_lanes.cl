@@ -119,3 +119,60 @@ WP_KERNEL void probe_math8(int n, WP_GLOBAL const float* in, WP_GLOBAL uint* lan
         for (int l = 0; l < 8; ++l) lane[(8 * i + l) * 8 + k] = b[l];
     }
 }
+
+// probe_misc8: the other lane functions of lanes.h against their scalar twins.
+// reads   per lane 16 floats: a xyz, b xyz, c xyz, n xyz (unit), u, v, s, t
+// writes  per lane 32 words to lane[] and scalar[]: sincos_2pi(u) (2), to_world(a, n) (3),
+//         to_local(a, n) (3), cosine hemisphere(u, v) (3), uniform hemisphere(u, v) (3),
+//         cosine pdf(n.z), hit point p of triangle (a, b, c) at (u, v) (3) and its err (3),
+//         offset_ray_origin(p, err, n, s) (3), shadow_tmax(b - p, err, n, s),
+//         power_heuristic(s, t), light_pdf_solid_angle(s, t, n.z), 0 (4)
+WP_KERNEL void probe_misc8(int n, WP_GLOBAL const float* in, WP_GLOBAL uint* lane,
+                           WP_GLOBAL uint* scalar) {
+    int i = wp_global_id();
+    if (i >= n) return;
+    float a[16][8];
+    WP_PROBE_READ(a, 16)
+    for (int l = 0; l < 8; ++l) {
+        float3 va = make_float3(a[0][l], a[1][l], a[2][l]);
+        float3 vb = make_float3(a[3][l], a[4][l], a[5][l]);
+        float3 vc = make_float3(a[6][l], a[7][l], a[8][l]);
+        float3 nn = make_float3(a[9][l], a[10][l], a[11][l]);
+        float u = a[12][l], v = a[13][l], s = a[14][l], t = a[15][l];
+        float r[32];
+        wp_sincos_2pi(u, &r[0], &r[1]);
+        float3 w = wp_to_world(va, nn), lo = wp_to_local(va, nn);
+        float3 ch = wp_sample_cosine_hemisphere(u, v), uh = wp_sample_uniform_hemisphere(u, v);
+        float3 err, p = wp_hit_point(va, vb, vc, u, v, &err);
+        float3 o = wp_offset_ray_origin(p, err, nn, s);
+        float f[] = {w.x, w.y, w.z, lo.x, lo.y, lo.z, ch.x, ch.y, ch.z, uh.x, uh.y, uh.z,
+                     wp_cosine_hemisphere_pdf(nn.z), p.x, p.y, p.z, err.x, err.y, err.z,
+                     o.x, o.y, o.z, wp_shadow_tmax(vb - p, err, nn, s),
+                     wp_power_heuristic(s, t), wp_light_pdf_solid_angle(s, t, nn.z),
+                     0.0f, 0.0f, 0.0f, 0.0f, 0.0f};
+        for (int k = 2; k < 32; ++k) r[k] = f[k - 2];
+        for (int k = 0; k < 32; ++k) scalar[(8 * i + l) * 32 + k] = as_uint(r[k]);
+    }
+    L3 va = l3(WP_LANES_F(a[0]), WP_LANES_F(a[1]), WP_LANES_F(a[2]));
+    L3 vb = l3(WP_LANES_F(a[3]), WP_LANES_F(a[4]), WP_LANES_F(a[5]));
+    L3 vc = l3(WP_LANES_F(a[6]), WP_LANES_F(a[7]), WP_LANES_F(a[8]));
+    L3 nn = l3(WP_LANES_F(a[9]), WP_LANES_F(a[10]), WP_LANES_F(a[11]));
+    float8 u = WP_LANES_F(a[12]), v = WP_LANES_F(a[13]), s = WP_LANES_F(a[14]), t = WP_LANES_F(a[15]);
+    float8 r[32];
+    wp_sincos_2pi8(u, &r[0], &r[1]);
+    L3 w = wp_to_world8(va, nn), lo = wp_to_local8(va, nn);
+    L3 ch = wp_sample_cosine_hemisphere8(u, v), uh = wp_sample_uniform_hemisphere8(u, v);
+    L3 err, p = wp_hit_point8(va, vb, vc, u, v, &err);
+    L3 o = wp_offset_ray_origin8(p, err, nn, s);
+    float8 f[] = {w.x, w.y, w.z, lo.x, lo.y, lo.z, ch.x, ch.y, ch.z, uh.x, uh.y, uh.z,
+                  wp_cosine_hemisphere_pdf8(nn.z), p.x, p.y, p.z, err.x, err.y, err.z,
+                  o.x, o.y, o.z, wp_shadow_tmax8(l3_sub(vb, p), err, nn, s),
+                  wp_power_heuristic8(s, t), wp_light_pdf_solid_angle8(s, t, nn.z),
+                  (float8)(0.0f), (float8)(0.0f), (float8)(0.0f), (float8)(0.0f), (float8)(0.0f)};
+    for (int k = 2; k < 32; ++k) r[k] = f[k - 2];
+    for (int k = 0; k < 32; ++k) {
+        uint b[8];
+        vstore8(as_uint8(r[k]), 0, b);
+        for (int l = 0; l < 8; ++l) lane[(8 * i + l) * 32 + k] = b[l];
+    }
+}

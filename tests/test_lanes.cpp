@@ -233,3 +233,68 @@ TEST_CASE("lanes: normalize, cross and pow spelled per lane equal the scalar bui
         CHECK(bad[w] == 0);
     }
 }
+
+// The lane functions shade_surface8 already used (sincos, frames, hemisphere warps, hit
+// point and ray offsets, MIS weights) against their scalar twins, bit for bit.
+TEST_CASE("lanes: frames, warps, offsets and MIS weights on eight lanes equal the scalar functions",
+          "[kernel][lanes]") {
+    auto& dev = wp::test::device();
+    const int items = 2048;
+    wp::test::Rng rng(0x3157c);
+    std::vector<float> in;
+    auto coord = [&] {
+        float m = std::pow(10.0f, rng.uniform(-3.0f, 3.0f));
+        return rng.uniform(-1.0f, 1.0f) * m;
+    };
+    auto density = [&](int q) {
+        switch (q % 8) {
+            case 0: return 0.0f;
+            case 1: return -rng.uniform();
+            default: return std::pow(10.0f, rng.uniform(-4.0f, 4.0f));
+        }
+    };
+    for (int q = 0; q < 8 * items; ++q) {
+        glm::vec3 base(coord(), coord(), coord());
+        glm::vec3 v[3];
+        for (auto& x : v) x = base + glm::vec3(coord(), coord(), coord()) * 1e-2f;
+        glm::vec3 n = rng.unit_vector();
+        n = n / std::sqrt(glm::dot(n, n));
+        if (q % 23 == 0) n = glm::vec3(0.0f, 0.0f, (q & 1) ? 1.0f : -1.0f);
+        if (q % 31 == 0) n = glm::vec3(1.0f, 0.0f, 0.0f);
+        glm::vec3 lv = (q % 2) ? rng.unit_vector() : v[0];
+        float s = density(q), t = density(q / 8 + 3);
+        in.insert(in.end(), {lv.x, lv.y, lv.z, v[1].x, v[1].y, v[1].z, v[2].x, v[2].y, v[2].z,
+                             n.x, n.y, n.z, random_u(rng), random_u(rng), s, t});
+        if (q % 2 == 0) {  // a triangle (v0, v1, v2) for the hit point
+            std::size_t o = std::size_t(q) * 16;
+            in[o] = v[0].x, in[o + 1] = v[0].y, in[o + 2] = v[0].z;
+        }
+    }
+    // u = k / 4 and k / 8 exactly (the quadrant edges of sincos) in some lanes.
+    for (int q = 0; q < 8 * items; q += 37) in[std::size_t(q) * 16 + 12] = float(q % 9) / 8.0f;
+    cl::Buffer b_in = upload(in);
+    ocl::Program prog = ocl::Program::build(dev, "test_lanes.cl",
+                                            "-D WP_GLOSSY_MODEL=1 -D WP_HAVE_GLOSSY=1 -D WP_HAVE_MIRROR=1");
+    ocl::Kernel k(prog, "probe_misc8", "probe.misc8");
+    const std::size_t words = std::size_t(items) * 8 * 32;
+    cl::Buffer b_lane(dev.context, CL_MEM_READ_WRITE, words * 4),
+        b_scalar(dev.context, CL_MEM_READ_WRITE, words * 4);
+    k.launch({&dev.queue}, items, items, b_in, b_lane, b_scalar);
+    std::vector<std::uint32_t> lane = download(b_lane, words), scalar = download(b_scalar, words);
+    const char* names[32] = {"sin", "cos", "to_world.x", "to_world.y", "to_world.z", "to_local.x",
+                             "to_local.y", "to_local.z", "cosine.x", "cosine.y", "cosine.z",
+                             "uniform.x", "uniform.y", "uniform.z", "cosine pdf", "p.x", "p.y",
+                             "p.z", "err.x", "err.y", "err.z", "origin.x", "origin.y", "origin.z",
+                             "shadow tmax", "power heuristic", "solid-angle pdf", "pad", "pad",
+                             "pad", "pad", "pad"};
+    for (int w = 0; w < 32; ++w) {
+        int bad = 0, first = -1;
+        for (int q = 0; q < 8 * items; ++q)
+            if (lane[std::size_t(q) * 32 + w] != scalar[std::size_t(q) * 32 + w]) {
+                bad += 1;
+                if (first < 0) first = q;
+            }
+        INFO(names[w] << ": " << bad << " differing lanes, first " << first);
+        CHECK(bad == 0);
+    }
+}
