@@ -2,7 +2,8 @@
 // function of shared/lanes.h on eight lanes of inputs and the scalar function it mirrors
 // on each lane, and writes both results as raw bits for the host to compare.
 // Built with -D WP_GLOSSY_MODEL=0 or 1 (estimator.h) and -D WP_HAVE_GLOSSY=1
-// -D WP_HAVE_MIRROR=1.
+// -D WP_HAVE_MIRROR=1. The lane functions are OpenCL-only; under CUDA and the host C++
+// build the probes copy the scalar results into lane[].
 #include "shared/bsdf.h"
 #include "shared/lights.h"
 #include "shared/offset.h"
@@ -65,6 +66,7 @@ WP_KERNEL void probe_glossy8(int n, WP_GLOBAL const float* in, WP_GLOBAL uint* l
         for (int k = 0; k < 16; ++k) sres[l][k] = as_uint(r[k]);
         sres[l][0] = ok ? 0xffffffffu : 0u;
     }
+#if defined(WP_OPENCL)
     L3 albedo = l3(WP_LANES_F(a[0]), WP_LANES_F(a[1]), WP_LANES_F(a[2]));
     float8 alpha = WP_LANES_F(a[3]);
     L3 d = l3(WP_LANES_F(a[4]), WP_LANES_F(a[5]), WP_LANES_F(a[6]));
@@ -87,6 +89,11 @@ WP_KERNEL void probe_glossy8(int n, WP_GLOBAL const float* in, WP_GLOBAL uint* l
             scalar[(8 * i + l) * 16 + k] = sres[l][k];
         }
     }
+#else
+    for (int l = 0; l < 8; ++l)
+        for (int k = 0; k < 16; ++k)
+            lane[(8 * i + l) * 16 + k] = scalar[(8 * i + l) * 16 + k] = sres[l][k];
+#endif
 }
 
 // probe_math8: the builtins the lane code spells out, against the scalar ones.
@@ -108,6 +115,7 @@ WP_KERNEL void probe_math8(int n, WP_GLOBAL const float* in, WP_GLOBAL uint* lan
         float r[8] = {nv.x, nv.y, nv.z, p, p, c.x, c.y, c.z};
         for (int k = 0; k < 8; ++k) scalar[(8 * i + l) * 8 + k] = as_uint(r[k]);
     }
+#if defined(WP_OPENCL)
     L3 v = l3(WP_LANES_F(a[0]), WP_LANES_F(a[1]), WP_LANES_F(a[2]));
     float8 y = WP_LANES_F(a[3]);
     L3 nv = l3_normalize(v);
@@ -118,6 +126,9 @@ WP_KERNEL void probe_math8(int n, WP_GLOBAL const float* in, WP_GLOBAL uint* lan
         vstore8(as_uint8(res[k]), 0, b);
         for (int l = 0; l < 8; ++l) lane[(8 * i + l) * 8 + k] = b[l];
     }
+#else
+    for (int j = 8 * 8 * i; j < 8 * 8 * (i + 1); ++j) lane[j] = scalar[j];
+#endif
 }
 
 // probe_misc8: the other lane functions of lanes.h against their scalar twins.
@@ -153,6 +164,7 @@ WP_KERNEL void probe_misc8(int n, WP_GLOBAL const float* in, WP_GLOBAL uint* lan
         for (int k = 2; k < 32; ++k) r[k] = f[k - 2];
         for (int k = 0; k < 32; ++k) scalar[(8 * i + l) * 32 + k] = as_uint(r[k]);
     }
+#if defined(WP_OPENCL)
     L3 va = l3(WP_LANES_F(a[0]), WP_LANES_F(a[1]), WP_LANES_F(a[2]));
     L3 vb = l3(WP_LANES_F(a[3]), WP_LANES_F(a[4]), WP_LANES_F(a[5]));
     L3 vc = l3(WP_LANES_F(a[6]), WP_LANES_F(a[7]), WP_LANES_F(a[8]));
@@ -175,4 +187,7 @@ WP_KERNEL void probe_misc8(int n, WP_GLOBAL const float* in, WP_GLOBAL uint* lan
         vstore8(as_uint8(r[k]), 0, b);
         for (int l = 0; l < 8; ++l) lane[(8 * i + l) * 32 + k] = b[l];
     }
+#else
+    for (int j = 8 * 32 * i; j < 8 * 32 * (i + 1); ++j) lane[j] = scalar[j];
+#endif
 }
