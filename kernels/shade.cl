@@ -585,55 +585,6 @@ WP_KERNEL void shade_triangle_frames(WP_GLOBAL const Triangle* tris, int count,
 #include "shared/lanes.h"
 #include "shared/rng_lanes.h"
 
-// STAND-INS until lanes.h has them: the glossy BSDF lane by lane.
-WP_FN L3 wp_reflect8(L3 d, L3 n) { return l3_sub(d, l3_scale(n, 2.0f * l3_dot(d, n))); }
-WP_FN int8 wp_glossy_sample8(L3 albedo, float8 alpha, L3 d, L3 ns, float8 u1, float8 u2,
-                             L3* wo, L3* weight, float8* pdf) {
-    float a[8][14];
-    int ok[8];
-    float ax[8], ay[8], az[8], al[8], dx[8], dy[8], dz[8], nx[8], ny[8], nz[8], ua[8], ub[8];
-    vstore8(albedo.x, 0, ax), vstore8(albedo.y, 0, ay), vstore8(albedo.z, 0, az), vstore8(alpha, 0, al);
-    vstore8(d.x, 0, dx), vstore8(d.y, 0, dy), vstore8(d.z, 0, dz);
-    vstore8(ns.x, 0, nx), vstore8(ns.y, 0, ny), vstore8(ns.z, 0, nz), vstore8(u1, 0, ua), vstore8(u2, 0, ub);
-    float wx[8], wy[8], wz[8], gx[8], gy[8], gz[8], pp[8];
-    for (int l = 0; l < 8; ++l) {
-        MaterialData m;
-        m.kind = WP_MATERIAL_GLOSSY;
-        m.albedo = make_float4(ax[l], ay[l], az[l], 0.0f);
-        m.alpha = m.alpha_v = al[l];
-        float3 w = make_float3(0.0f, 0.0f, 0.0f), g = w;
-        float pd = 0.0f;
-        int sp = 0;
-        ok[l] = wp_glossy_sample(m, 0, make_float3(dx[l], dy[l], dz[l]), make_float3(nx[l], ny[l], nz[l]), 1,
-                                 make_float4(ua[l], ub[l], 0.0f, 0.0f), &w, &g, &pd, &sp) ? -1 : 0;
-        wx[l] = w.x, wy[l] = w.y, wz[l] = w.z, gx[l] = g.x, gy[l] = g.y, gz[l] = g.z, pp[l] = pd;
-    }
-    *wo = l3(vload8(0, wx), vload8(0, wy), vload8(0, wz));
-    *weight = l3(vload8(0, gx), vload8(0, gy), vload8(0, gz));
-    *pdf = vload8(0, pp);
-    return vload8(0, ok);
-}
-WP_FN L3 wp_glossy_eval8(L3 albedo, float8 alpha, L3 d, L3 ns, L3 wi, float8 cos_i, float8* pdf) {
-    float ax[8], ay[8], az[8], al[8], dx[8], dy[8], dz[8], nx[8], ny[8], nz[8], ix[8], iy[8], iz[8];
-    vstore8(albedo.x, 0, ax), vstore8(albedo.y, 0, ay), vstore8(albedo.z, 0, az), vstore8(alpha, 0, al);
-    vstore8(d.x, 0, dx), vstore8(d.y, 0, dy), vstore8(d.z, 0, dz);
-    vstore8(ns.x, 0, nx), vstore8(ns.y, 0, ny), vstore8(ns.z, 0, nz);
-    vstore8(wi.x, 0, ix), vstore8(wi.y, 0, iy), vstore8(wi.z, 0, iz);
-    float fx[8], fy[8], fz[8], pp[8];
-    for (int l = 0; l < 8; ++l) {
-        MaterialData m;
-        m.kind = WP_MATERIAL_GLOSSY;
-        m.albedo = make_float4(ax[l], ay[l], az[l], 0.0f);
-        m.alpha = m.alpha_v = al[l];
-        float pd = 0.0f;
-        float3 f = wp_bsdf_eval(m, 0, make_float3(dx[l], dy[l], dz[l]), make_float3(nx[l], ny[l], nz[l]), 1,
-                                make_float3(ix[l], iy[l], iz[l]), &pd);
-        fx[l] = f.x, fy[l] = f.y, fz[l] = f.z, pp[l] = pd;
-    }
-    *pdf = vload8(0, pp);
-    return l3(vload8(0, fx), vload8(0, fy), vload8(0, fz));
-}
-
 // Counts the lanes of mask m in counters[WP_COUNTER_SHADE_NONFINITE].
 WP_FN void wp_count_nonfinite8(int8 m, WP_GLOBAL int* counters) {
     int n = popcount(wp_lane_bits(m));

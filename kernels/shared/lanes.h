@@ -10,12 +10,20 @@
 //
 // Each function here is the lane form of a scalar one, with the same operations in the same
 // order, so that a lane computes the scalar function's bits (FP_CONTRACT is off: compat.h);
-// tests/test_shade_lanes.cpp checks every function against its scalar twin bit for bit, and
-// the lane kernel against shade_surface. Change both together.
+// tests/test_lanes.cpp checks the functions against their scalar twins bit for bit, and
+// tests/test_shade.cpp the lane kernel against shade_surface. Change both together.
 #ifndef WP_LANES_H
 #define WP_LANES_H
 
 #include "compat.h"
+#include "offset.h"
+#include "shading.h"
+#include "estimator.h"
+#include "sampling.h"
+
+#ifndef WP_GLOSSY_MODEL
+#define WP_GLOSSY_MODEL WP_DEFAULT_GLOSSY_MODEL
+#endif
 
 #if defined(WP_OPENCL)
 
@@ -177,6 +185,139 @@ WP_FN float8 wp_terminator_factor8(L3 ng, L3 ns, L3 wi) {
     const float8 g = min(1.0f, l3_dot(ng, wi) / (nsi * ngs));
     const float8 f = select((float8)(0.0f), g * (1.0f + g * (1.0f - g)), g > 0.0f);
     return select((float8)(1.0f), f, (nsi > 0.0f) & (ngs > 0.0f));
+}
+
+// sampling.h: frames, reflection, GGX. normalize(v) of float3 is spelled
+// v * (1 / sqrt(dot(v, v))): PoCL's scalar normalize gives those bits (tests/test_lanes.cpp,
+// "normalize" case, over random, tiny and huge vectors).
+WP_FN L3 l3_cross(L3 a, L3 b) {
+    return l3(a.y * b.z - a.z * b.y, a.z * b.x - a.x * b.z, a.x * b.y - a.y * b.x);
+}
+WP_FN L3 l3_normalize(L3 v) { return l3_scale(v, 1.0f / sqrt(l3_dot(v, v))); }
+WP_FN L3 wp_to_local8(L3 w, L3 n) {
+    float8 sign = copysign((float8)(1.0f), n.z);
+    float8 a = -1.0f / (sign + n.z);
+    float8 c = n.x * n.y * a;
+    L3 t = l3(1.0f + sign * n.x * n.x * a, sign * c, -sign * n.x);
+    L3 b = l3(c, sign + n.y * n.y * a, -n.y);
+    return l3(l3_dot(w, t), l3_dot(w, b), l3_dot(w, n));
+}
+WP_FN L3 wp_reflect8(L3 d, L3 n) { return l3_sub(d, l3_scale(n, 2.0f * l3_dot(d, n))); }
+WP_FN L3 wp_spherical_local8(float8 cos_theta, float8 u) {
+    float8 sin_theta = sqrt(max(0.0f, 1.0f - cos_theta * cos_theta));
+    float8 sp, cp;
+    wp_sincos_2pi8(u, &sp, &cp);
+    return l3(sin_theta * cp, sin_theta * sp, cos_theta);
+}
+// pow per lane with the scalar builtin: PoCL's pow(float8) does not give the scalar pow's
+// bits in every lane (tests/test_lanes.cpp, "pow" case), so eight scalar calls.
+WP_FN float8 wp_pow8(float8 x, float8 y) {
+    float a[8], b[8], r[8];
+    vstore8(x, 0, a);
+    vstore8(y, 0, b);
+#pragma unroll
+    for (int l = 0; l < 8; ++l) r[l] = pow(a[l], b[l]);
+    return vload8(0, r);
+}
+WP_FN float8 wp_phong_lobe_pdf8(float8 cos_alpha, float8 exponent) {
+    return select((float8)(0.0f), (exponent + 1.0f) * WP_INV_2PI * wp_pow8(cos_alpha, exponent),
+                  cos_alpha > 0.0f);
+}
+WP_FN float8 wp_ggx_d8(L3 h, float8 alpha) {
+    float8 a2 = alpha * alpha;
+    float8 t = h.z * h.z * (a2 - 1.0f) + 1.0f;
+    return select((float8)(0.0f), a2 / (WP_PI * t * t), h.z > 0.0f);
+}
+WP_FN float8 wp_ggx_lambda8(L3 w, float8 alpha) {
+    float8 c2 = w.z * w.z;
+    float8 s2 = max(0.0f, 1.0f - c2);
+    return select((float8)(FLT_MAX), 0.5f * (-1.0f + sqrt(1.0f + alpha * alpha * s2 / c2)), c2 > 0.0f);
+}
+WP_FN float8 wp_ggx_g1_8(L3 w, float8 alpha) { return 1.0f / (1.0f + wp_ggx_lambda8(w, alpha)); }
+WP_FN float8 wp_ggx_g2_8(L3 wo, L3 wi, float8 alpha) {
+    return 1.0f / (1.0f + wp_ggx_lambda8(wo, alpha) + wp_ggx_lambda8(wi, alpha));
+}
+WP_FN L3 wp_vndf_hemisphere8(L3 vh, float8 u1, float8 u2) {
+    float8 lensq = vh.x * vh.x + vh.y * vh.y;
+    L3 t1 = l3_select(l3_splat(1.0f, 0.0f, 0.0f),
+                      l3_scale(l3(-vh.y, vh.x, (float8)(0.0f)), 1.0f / sqrt(lensq)), lensq > 0.0f);
+    L3 t2 = l3_cross(vh, t1);
+    float8 r = sqrt(u1);
+    float8 sp, cp;
+    wp_sincos_2pi8(u2, &sp, &cp);
+    float8 p1 = r * cp;
+    float8 p2 = r * sp;
+    float8 s = 0.5f * (1.0f + vh.z);
+    p2 = (1.0f - s) * sqrt(max(0.0f, 1.0f - p1 * p1)) + s * p2;
+    return l3_add(l3_add(l3_scale(t1, p1), l3_scale(t2, p2)),
+                  l3_scale(vh, sqrt(max(0.0f, 1.0f - p1 * p1 - p2 * p2))));
+}
+WP_FN L3 wp_ggx_sample_vndf8(L3 wo, float8 alpha, float8 u1, float8 u2) {
+    L3 vh = l3_normalize(l3(alpha * wo.x, alpha * wo.y, wo.z));
+    L3 nh = wp_vndf_hemisphere8(vh, u1, u2);
+    return l3_normalize(l3(alpha * nh.x, alpha * nh.y, max(1e-6f, nh.z)));
+}
+// wp_ggx_reflect_pdf for lanes with wo.z > 0 and wi.z > 0 (callers mask the others).
+WP_FN float8 wp_ggx_reflect_pdf8(L3 wo, L3 wi, float8 alpha) {
+    L3 h = l3_normalize(l3_add(wo, wi));
+    return wp_ggx_g1_8(wo, alpha) * wp_ggx_d8(h, alpha) / (4.0f * wo.z);
+}
+
+// materials/glossy.h
+WP_FN L3 wp_fresnel_schlick8(L3 f0, float8 cos_theta) {
+    float8 c = 1.0f - clamp(cos_theta, 0.0f, 1.0f);
+    float8 c5 = c * c * c * c * c;
+    return l3_add(f0, l3_scale(l3_sub(l3_splat(1.0f, 1.0f, 1.0f), f0), c5));
+}
+WP_FN float8 wp_ggx_alpha_to_phong8(float8 alpha) { return 2.0f / (alpha * alpha) - 2.0f; }
+
+// wp_glossy_sample per lane: the mask of the lanes where it returns 1; there *wo, *weight
+// and *pdf hold its outputs (elsewhere: anything).
+WP_FN int8 wp_glossy_sample8(L3 albedo, float8 alpha, L3 d, L3 ns, float8 u1, float8 u2,
+                             L3* wo, L3* weight, float8* pdf) {
+#if WP_GLOSSY_MODEL == WP_GLOSSY_PHONG
+    float8 e = wp_ggx_alpha_to_phong8(alpha);
+    L3 r = wp_reflect8(d, ns);
+    float8 cos_alpha = wp_pow8(1.0f - u1, 1.0f / (e + 1.0f));
+    L3 lv = wp_spherical_local8(cos_alpha, u2);
+    L3 w = wp_to_world8(lv, r);
+    *wo = w;
+    *weight = albedo;
+    *pdf = wp_phong_lobe_pdf8(lv.z, e);
+    return l3_dot(w, ns) > 0.0f;
+#else
+    L3 vo = wp_to_local8(l3_neg(d), ns);
+    L3 h = wp_ggx_sample_vndf8(vo, alpha, u1, u2);
+    float8 oh = l3_dot(vo, h);
+    L3 vi = l3_sub(l3_scale(h, 2.0f * oh), vo);
+    *wo = wp_to_world8(vi, ns);
+    *weight = l3_scale(wp_fresnel_schlick8(albedo, oh),
+                       wp_ggx_g2_8(vo, vi, alpha) / wp_ggx_g1_8(vo, alpha));
+    *pdf = wp_ggx_reflect_pdf8(vo, vi, alpha);
+    return (vo.z > 0.0f) & (vi.z > 0.0f);
+#endif
+}
+
+// wp_bsdf_eval of a glossy material per lane, given cos_i = dot(wi, ns): f cos and *pdf,
+// zero and 0 where it returns zero.
+WP_FN L3 wp_glossy_eval8(L3 albedo, float8 alpha, L3 d, L3 ns, L3 wi, float8 cos_i, float8* pdf) {
+    const float8 zero = (float8)(0.0f);
+    int8 live = cos_i > 0.0f;  // bsdf.h: cos_i != 0; glossy.h: reflection only
+#if WP_GLOSSY_MODEL == WP_GLOSSY_PHONG
+    L3 r = wp_reflect8(d, ns);
+    float8 p = wp_phong_lobe_pdf8(l3_dot(wi, r), wp_ggx_alpha_to_phong8(alpha));
+    L3 f = l3_scale(albedo, p);
+#else
+    L3 vo = wp_to_local8(l3_neg(d), ns);
+    L3 vi = wp_to_local8(wi, ns);
+    live = live & (vo.z > 0.0f) & (vi.z > 0.0f);
+    L3 h = l3_normalize(l3_add(vo, vi));
+    float8 p = wp_ggx_reflect_pdf8(vo, vi, alpha);
+    float8 s = wp_ggx_d8(h, alpha) * wp_ggx_g2_8(vo, vi, alpha) / (4.0f * vo.z);
+    L3 f = l3_scale(wp_fresnel_schlick8(albedo, l3_dot(vo, h)), s);
+#endif
+    *pdf = select(zero, p, live);
+    return l3_select(l3(zero, zero, zero), f, live);
 }
 
 WP_NAMESPACE_END

@@ -1,0 +1,193 @@
+// test_lanes.cl — probe kernels for tests/test_lanes.cpp: each work-item runs a lane
+// function of shared/lanes.h on eight lanes of inputs and the scalar function it mirrors
+// on each lane, and writes both results as raw bits for the host to compare.
+// Built with -D WP_GLOSSY_MODEL=0 or 1 (estimator.h) and -D WP_HAVE_GLOSSY=1
+// -D WP_HAVE_MIRROR=1. The lane functions are OpenCL-only; under CUDA and the host C++
+// build the probes copy the scalar results into lane[].
+#include "shared/bsdf.h"
+#include "shared/lights.h"
+#include "shared/offset.h"
+#include "shared/lanes.h"
+
+// Lane l of item i reads in[(8 i + l) * NIN + k] into a[k][l].
+#define WP_PROBE_READ(a, nin)                                   \
+    for (int l = 0; l < 8; ++l)                                 \
+        for (int k = 0; k < (nin); ++k) a[k][l] = in[(8 * i + l) * (nin) + k];
+
+// probe_glossy8
+// reads   per lane 16 floats: albedo xyz, alpha, d xyz (unit), ns xyz (unit), u1, u2,
+//         wi xyz (unit), use_wo (> 0: evaluate at the scalar sample's wo where it scattered)
+// writes  per lane 16 words to lane[] (lane functions) and scalar[] (scalar functions):
+//         sample mask (-1 / 0), wo xyz, weight xyz, pdf, eval f xyz, eval pdf, reflect xyz,
+//         0
+WP_KERNEL void probe_glossy8(int n, WP_GLOBAL const float* in, WP_GLOBAL uint* lane,
+                             WP_GLOBAL uint* scalar) {
+    int i = wp_global_id();
+    if (i >= n) return;
+    float a[16][8];
+    WP_PROBE_READ(a, 16)
+    // Scalar functions per lane first (their wo may become the eval direction).
+    uint sres[8][16];
+    float wix[8], wiy[8], wiz[8];
+    for (int l = 0; l < 8; ++l) {
+        MaterialData m;
+        m.albedo = make_float4(a[0][l], a[1][l], a[2][l], 0.0f);
+        m.emission = make_float4(0.0f, 0.0f, 0.0f, 0.0f);
+        m.kind = WP_MATERIAL_GLOSSY;
+        m.ior = 1.5f;
+        m.alpha = a[3][l];
+        m.alpha_v = a[3][l];
+        m.specular = m.emission;
+        m.eta = m.emission;
+        m.k = m.emission;
+        m.flags = 0;
+        m.table = -1;
+        m.aniso_cos = 0.0f;
+        m.aniso_sin = 0.0f;
+        float3 d = make_float3(a[4][l], a[5][l], a[6][l]);
+        float3 ns = make_float3(a[7][l], a[8][l], a[9][l]);
+        float4 u = make_float4(a[10][l], a[11][l], 0.5f, 0.5f);
+        float3 wo = make_float3(0.0f, 0.0f, 0.0f), weight = wo;
+        float pdf = 0.0f;
+        int specular;
+        int ok = wp_bsdf_sample_pdf(m, 0, d, ns, 1, u, &wo, &weight, &pdf, &specular);
+        float3 wi = make_float3(a[12][l], a[13][l], a[14][l]);
+        if (ok && a[15][l] > 0.0f) wi = wo;
+        wix[l] = wi.x, wiy[l] = wi.y, wiz[l] = wi.z;
+        float epdf;
+        float3 f = wp_bsdf_eval(m, 0, d, ns, 1, wi, &epdf);
+        MaterialData mm = m;
+        mm.kind = WP_MATERIAL_MIRROR;
+        float3 mwo, mweight;
+        float mpdf;
+        wp_bsdf_sample_pdf(mm, 0, d, ns, 1, u, &mwo, &mweight, &mpdf, &specular);
+        float r[16] = {ok ? -1.0f : 0.0f, wo.x, wo.y, wo.z, weight.x, weight.y, weight.z, pdf,
+                       f.x, f.y, f.z, epdf, mwo.x, mwo.y, mwo.z, 0.0f};
+        for (int k = 0; k < 16; ++k) sres[l][k] = as_uint(r[k]);
+        sres[l][0] = ok ? 0xffffffffu : 0u;
+    }
+#if defined(WP_OPENCL)
+    L3 albedo = l3(WP_LANES_F(a[0]), WP_LANES_F(a[1]), WP_LANES_F(a[2]));
+    float8 alpha = WP_LANES_F(a[3]);
+    L3 d = l3(WP_LANES_F(a[4]), WP_LANES_F(a[5]), WP_LANES_F(a[6]));
+    L3 ns = l3(WP_LANES_F(a[7]), WP_LANES_F(a[8]), WP_LANES_F(a[9]));
+    float8 u1 = WP_LANES_F(a[10]), u2 = WP_LANES_F(a[11]);
+    L3 wo, weight;
+    float8 pdf;
+    int8 ok = wp_glossy_sample8(albedo, alpha, d, ns, u1, u2, &wo, &weight, &pdf);
+    L3 wi = l3(WP_LANES_F(wix), WP_LANES_F(wiy), WP_LANES_F(wiz));
+    float8 epdf;
+    L3 f = wp_glossy_eval8(albedo, alpha, d, ns, wi, l3_dot(wi, ns), &epdf);
+    L3 mwo = wp_reflect8(d, ns);
+    float8 res[16] = {as_float8(ok), wo.x, wo.y, wo.z, weight.x, weight.y, weight.z, pdf,
+                      f.x, f.y, f.z, epdf, mwo.x, mwo.y, mwo.z, (float8)(0.0f)};
+    for (int k = 0; k < 16; ++k) {
+        uint b[8];
+        vstore8(as_uint8(res[k]), 0, b);
+        for (int l = 0; l < 8; ++l) {
+            lane[(8 * i + l) * 16 + k] = b[l];
+            scalar[(8 * i + l) * 16 + k] = sres[l][k];
+        }
+    }
+#else
+    for (int l = 0; l < 8; ++l)
+        for (int k = 0; k < 16; ++k)
+            lane[(8 * i + l) * 16 + k] = scalar[(8 * i + l) * 16 + k] = sres[l][k];
+#endif
+}
+
+// probe_math8: the builtins the lane code spells out, against the scalar ones.
+// reads   per lane 4 floats: v xyz, y
+// writes  per lane 8 words to lane[] and scalar[]: normalize(v) xyz (lane: l3_normalize),
+//         pow(|v.x|, y) (lane: pow(float8) in word 3, wp_pow8 in word 4), cross(v, (y, v.z,
+//         v.x)) xyz
+WP_KERNEL void probe_math8(int n, WP_GLOBAL const float* in, WP_GLOBAL uint* lane,
+                           WP_GLOBAL uint* scalar) {
+    int i = wp_global_id();
+    if (i >= n) return;
+    float a[4][8];
+    WP_PROBE_READ(a, 4)
+    for (int l = 0; l < 8; ++l) {
+        float3 v = make_float3(a[0][l], a[1][l], a[2][l]);
+        float3 nv = normalize(v);
+        float p = pow(fabs(v.x), a[3][l]);
+        float3 c = cross(v, make_float3(a[3][l], v.z, v.x));
+        float r[8] = {nv.x, nv.y, nv.z, p, p, c.x, c.y, c.z};
+        for (int k = 0; k < 8; ++k) scalar[(8 * i + l) * 8 + k] = as_uint(r[k]);
+    }
+#if defined(WP_OPENCL)
+    L3 v = l3(WP_LANES_F(a[0]), WP_LANES_F(a[1]), WP_LANES_F(a[2]));
+    float8 y = WP_LANES_F(a[3]);
+    L3 nv = l3_normalize(v);
+    L3 c = l3_cross(v, l3(y, v.z, v.x));
+    float8 res[8] = {nv.x, nv.y, nv.z, pow(fabs(v.x), y), wp_pow8(fabs(v.x), y), c.x, c.y, c.z};
+    for (int k = 0; k < 8; ++k) {
+        uint b[8];
+        vstore8(as_uint8(res[k]), 0, b);
+        for (int l = 0; l < 8; ++l) lane[(8 * i + l) * 8 + k] = b[l];
+    }
+#else
+    for (int j = 8 * 8 * i; j < 8 * 8 * (i + 1); ++j) lane[j] = scalar[j];
+#endif
+}
+
+// probe_misc8: the other lane functions of lanes.h against their scalar twins.
+// reads   per lane 16 floats: a xyz, b xyz, c xyz, n xyz (unit), u, v, s, t
+// writes  per lane 32 words to lane[] and scalar[]: sincos_2pi(u) (2), to_world(a, n) (3),
+//         to_local(a, n) (3), cosine hemisphere(u, v) (3), uniform hemisphere(u, v) (3),
+//         cosine pdf(n.z), hit point p of triangle (a, b, c) at (u, v) (3) and its err (3),
+//         offset_ray_origin(p, err, n, s) (3), shadow_tmax(b - p, err, n, s),
+//         power_heuristic(s, t), light_pdf_solid_angle(s, t, n.z), 0 (4)
+WP_KERNEL void probe_misc8(int n, WP_GLOBAL const float* in, WP_GLOBAL uint* lane,
+                           WP_GLOBAL uint* scalar) {
+    int i = wp_global_id();
+    if (i >= n) return;
+    float a[16][8];
+    WP_PROBE_READ(a, 16)
+    for (int l = 0; l < 8; ++l) {
+        float3 va = make_float3(a[0][l], a[1][l], a[2][l]);
+        float3 vb = make_float3(a[3][l], a[4][l], a[5][l]);
+        float3 vc = make_float3(a[6][l], a[7][l], a[8][l]);
+        float3 nn = make_float3(a[9][l], a[10][l], a[11][l]);
+        float u = a[12][l], v = a[13][l], s = a[14][l], t = a[15][l];
+        float r[32];
+        wp_sincos_2pi(u, &r[0], &r[1]);
+        float3 w = wp_to_world(va, nn), lo = wp_to_local(va, nn);
+        float3 ch = wp_sample_cosine_hemisphere(u, v), uh = wp_sample_uniform_hemisphere(u, v);
+        float3 err, p = wp_hit_point(va, vb, vc, u, v, &err);
+        float3 o = wp_offset_ray_origin(p, err, nn, s);
+        float f[] = {w.x, w.y, w.z, lo.x, lo.y, lo.z, ch.x, ch.y, ch.z, uh.x, uh.y, uh.z,
+                     wp_cosine_hemisphere_pdf(nn.z), p.x, p.y, p.z, err.x, err.y, err.z,
+                     o.x, o.y, o.z, wp_shadow_tmax(vb - p, err, nn, s),
+                     wp_power_heuristic(s, t), wp_light_pdf_solid_angle(s, t, nn.z),
+                     0.0f, 0.0f, 0.0f, 0.0f, 0.0f};
+        for (int k = 2; k < 32; ++k) r[k] = f[k - 2];
+        for (int k = 0; k < 32; ++k) scalar[(8 * i + l) * 32 + k] = as_uint(r[k]);
+    }
+#if defined(WP_OPENCL)
+    L3 va = l3(WP_LANES_F(a[0]), WP_LANES_F(a[1]), WP_LANES_F(a[2]));
+    L3 vb = l3(WP_LANES_F(a[3]), WP_LANES_F(a[4]), WP_LANES_F(a[5]));
+    L3 vc = l3(WP_LANES_F(a[6]), WP_LANES_F(a[7]), WP_LANES_F(a[8]));
+    L3 nn = l3(WP_LANES_F(a[9]), WP_LANES_F(a[10]), WP_LANES_F(a[11]));
+    float8 u = WP_LANES_F(a[12]), v = WP_LANES_F(a[13]), s = WP_LANES_F(a[14]), t = WP_LANES_F(a[15]);
+    float8 r[32];
+    wp_sincos_2pi8(u, &r[0], &r[1]);
+    L3 w = wp_to_world8(va, nn), lo = wp_to_local8(va, nn);
+    L3 ch = wp_sample_cosine_hemisphere8(u, v), uh = wp_sample_uniform_hemisphere8(u, v);
+    L3 err, p = wp_hit_point8(va, vb, vc, u, v, &err);
+    L3 o = wp_offset_ray_origin8(p, err, nn, s);
+    float8 f[] = {w.x, w.y, w.z, lo.x, lo.y, lo.z, ch.x, ch.y, ch.z, uh.x, uh.y, uh.z,
+                  wp_cosine_hemisphere_pdf8(nn.z), p.x, p.y, p.z, err.x, err.y, err.z,
+                  o.x, o.y, o.z, wp_shadow_tmax8(l3_sub(vb, p), err, nn, s),
+                  wp_power_heuristic8(s, t), wp_light_pdf_solid_angle8(s, t, nn.z),
+                  (float8)(0.0f), (float8)(0.0f), (float8)(0.0f), (float8)(0.0f), (float8)(0.0f)};
+    for (int k = 2; k < 32; ++k) r[k] = f[k - 2];
+    for (int k = 0; k < 32; ++k) {
+        uint b[8];
+        vstore8(as_uint8(r[k]), 0, b);
+        for (int l = 0; l < 8; ++l) lane[(8 * i + l) * 32 + k] = b[l];
+    }
+#else
+    for (int j = 8 * 32 * i; j < 8 * 32 * (i + 1); ++j) lane[j] = scalar[j];
+#endif
+}
