@@ -834,7 +834,7 @@ WP_KERNEL void shade_surface8(WP_GLOBAL const Ray* rays_in, WP_GLOBAL const Path
 #if WP_HAVE_GLOSSY
                 if (wp_lane_bits(glossy & sampled)) {
                     float8 gpdf;
-                    const L3 gf = wp_glossy_eval8(albedo, alpha, dn, ns, wi, cos_i, &gpdf);
+                    const L3 gf = wp_glossy_eval8(albedo, alpha, dn, ns, wi, cos_i, &gpdf, glossy & sampled);
                     fcos = l3_select(fcos, gf, glossy);
                     bsdf_pdf = select(bsdf_pdf, gpdf, glossy);
                 }
@@ -890,7 +890,7 @@ WP_KERNEL void shade_surface8(WP_GLOBAL const Ray* rays_in, WP_GLOBAL const Path
             if (wp_lane_bits(glossy & alive)) {
                 L3 gwo, gweight;
                 float8 gpdf;
-                const int8 scattered = wp_glossy_sample8(albedo, alpha, dn, ns, ux, uy, &gwo, &gweight, &gpdf);
+                const int8 scattered = wp_glossy_sample8(albedo, alpha, dn, ns, ux, uy, &gwo, &gweight, &gpdf, glossy & alive);
                 alive &= ~glossy | scattered;  // a glossy draw below the surface: absorbed
                 wo = l3_select(wo, gwo, glossy);
                 weight = l3_select(weight, gweight, glossy);

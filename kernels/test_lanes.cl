@@ -74,10 +74,10 @@ WP_KERNEL void probe_glossy8(int n, WP_GLOBAL const float* in, WP_GLOBAL uint* l
     float8 u1 = WP_LANES_F(a[10]), u2 = WP_LANES_F(a[11]);
     L3 wo, weight;
     float8 pdf;
-    int8 ok = wp_glossy_sample8(albedo, alpha, d, ns, u1, u2, &wo, &weight, &pdf);
+    int8 ok = wp_glossy_sample8(albedo, alpha, d, ns, u1, u2, &wo, &weight, &pdf, (int8)(-1));
     L3 wi = l3(WP_LANES_F(wix), WP_LANES_F(wiy), WP_LANES_F(wiz));
     float8 epdf;
-    L3 f = wp_glossy_eval8(albedo, alpha, d, ns, wi, l3_dot(wi, ns), &epdf);
+    L3 f = wp_glossy_eval8(albedo, alpha, d, ns, wi, l3_dot(wi, ns), &epdf, (int8)(-1));
     L3 mwo = wp_reflect8(d, ns);
     float8 res[16] = {as_float8(ok), wo.x, wo.y, wo.z, weight.x, weight.y, weight.z, pdf,
                       f.x, f.y, f.z, epdf, mwo.x, mwo.y, mwo.z, (float8)(0.0f)};
@@ -120,7 +120,7 @@ WP_KERNEL void probe_math8(int n, WP_GLOBAL const float* in, WP_GLOBAL uint* lan
     float8 y = WP_LANES_F(a[3]);
     L3 nv = l3_normalize(v);
     L3 c = l3_cross(v, l3(y, v.z, v.x));
-    float8 res[8] = {nv.x, nv.y, nv.z, pow(fabs(v.x), y), wp_pow8(fabs(v.x), y), c.x, c.y, c.z};
+    float8 res[8] = {nv.x, nv.y, nv.z, pow(fabs(v.x), y), wp_pow8(fabs(v.x), y, (int8)(-1)), c.x, c.y, c.z};
     for (int k = 0; k < 8; ++k) {
         uint b[8];
         vstore8(as_uint8(res[k]), 0, b);

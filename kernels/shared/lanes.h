@@ -210,17 +210,19 @@ WP_FN L3 wp_spherical_local8(float8 cos_theta, float8 u) {
     return l3(sin_theta * cp, sin_theta * sp, cos_theta);
 }
 // pow per lane with the scalar builtin: PoCL's pow(float8) does not give the scalar pow's
-// bits in every lane (tests/test_lanes.cpp, "pow" case), so eight scalar calls.
-WP_FN float8 wp_pow8(float8 x, float8 y) {
+// bits in every lane (tests/test_lanes.cpp, "pow" case), so one scalar call per lane of
+// mask `need` (a library call each: the other lanes get 1, uncomputed).
+WP_FN float8 wp_pow8(float8 x, float8 y, int8 need) {
     float a[8], b[8], r[8];
+    int bits = wp_lane_bits(need);
     vstore8(x, 0, a);
     vstore8(y, 0, b);
 #pragma unroll
-    for (int l = 0; l < 8; ++l) r[l] = pow(a[l], b[l]);
+    for (int l = 0; l < 8; ++l) r[l] = (bits & (1 << l)) ? pow(a[l], b[l]) : 1.0f;
     return vload8(0, r);
 }
-WP_FN float8 wp_phong_lobe_pdf8(float8 cos_alpha, float8 exponent) {
-    return select((float8)(0.0f), (exponent + 1.0f) * WP_INV_2PI * wp_pow8(cos_alpha, exponent),
+WP_FN float8 wp_phong_lobe_pdf8(float8 cos_alpha, float8 exponent, int8 need) {
+    return select((float8)(0.0f), (exponent + 1.0f) * WP_INV_2PI * wp_pow8(cos_alpha, exponent, need),
                   cos_alpha > 0.0f);
 }
 WP_FN float8 wp_ggx_d8(L3 h, float8 alpha) {
@@ -272,18 +274,19 @@ WP_FN L3 wp_fresnel_schlick8(L3 f0, float8 cos_theta) {
 WP_FN float8 wp_ggx_alpha_to_phong8(float8 alpha) { return 2.0f / (alpha * alpha) - 2.0f; }
 
 // wp_glossy_sample per lane: the mask of the lanes where it returns 1; there *wo, *weight
-// and *pdf hold its outputs (elsewhere: anything).
+// and *pdf hold its outputs (elsewhere: anything). `need`: the lanes whose results are used
+// (the Phong model's library calls are made for those only).
 WP_FN int8 wp_glossy_sample8(L3 albedo, float8 alpha, L3 d, L3 ns, float8 u1, float8 u2,
-                             L3* wo, L3* weight, float8* pdf) {
+                             L3* wo, L3* weight, float8* pdf, int8 need) {
 #if WP_GLOSSY_MODEL == WP_GLOSSY_PHONG
     float8 e = wp_ggx_alpha_to_phong8(alpha);
     L3 r = wp_reflect8(d, ns);
-    float8 cos_alpha = wp_pow8(1.0f - u1, 1.0f / (e + 1.0f));
+    float8 cos_alpha = wp_pow8(1.0f - u1, 1.0f / (e + 1.0f), need);
     L3 lv = wp_spherical_local8(cos_alpha, u2);
     L3 w = wp_to_world8(lv, r);
     *wo = w;
     *weight = albedo;
-    *pdf = wp_phong_lobe_pdf8(lv.z, e);
+    *pdf = wp_phong_lobe_pdf8(lv.z, e, need);
     return l3_dot(w, ns) > 0.0f;
 #else
     L3 vo = wp_to_local8(l3_neg(d), ns);
@@ -299,13 +302,14 @@ WP_FN int8 wp_glossy_sample8(L3 albedo, float8 alpha, L3 d, L3 ns, float8 u1, fl
 }
 
 // wp_bsdf_eval of a glossy material per lane, given cos_i = dot(wi, ns): f cos and *pdf,
-// zero and 0 where it returns zero.
-WP_FN L3 wp_glossy_eval8(L3 albedo, float8 alpha, L3 d, L3 ns, L3 wi, float8 cos_i, float8* pdf) {
+// zero and 0 where it returns zero; `need` as for wp_glossy_sample8.
+WP_FN L3 wp_glossy_eval8(L3 albedo, float8 alpha, L3 d, L3 ns, L3 wi, float8 cos_i, float8* pdf,
+                         int8 need) {
     const float8 zero = (float8)(0.0f);
     int8 live = cos_i > 0.0f;  // bsdf.h: cos_i != 0; glossy.h: reflection only
 #if WP_GLOSSY_MODEL == WP_GLOSSY_PHONG
     L3 r = wp_reflect8(d, ns);
-    float8 p = wp_phong_lobe_pdf8(l3_dot(wi, r), wp_ggx_alpha_to_phong8(alpha));
+    float8 p = wp_phong_lobe_pdf8(l3_dot(wi, r), wp_ggx_alpha_to_phong8(alpha), need & live);
     L3 f = l3_scale(albedo, p);
 #else
     L3 vo = wp_to_local8(l3_neg(d), ns);
