@@ -458,36 +458,36 @@ WP_FN int wp_shade_path(Ray ray, PathState path, Hit hit, WP_GLOBAL const Triang
     return 1;
 }
 
+// The parameters of shade_surface and shade_surface8 (the host passes the same arguments
+// to either: render/stages/shade.cpp).
+#define WP_SHADE_SURFACE_PARAMS \
+    WP_GLOBAL const Ray* rays_in, WP_GLOBAL const PathState* paths_in, \
+    WP_GLOBAL const int* count_in, WP_GLOBAL const Hit* hits, \
+    WP_GLOBAL const Triangle* tris, WP_GLOBAL const float4* tri_frames, \
+    WP_GLOBAL const int* material_ids, WP_GLOBAL const MaterialData* materials, \
+    WP_GLOBAL const float* material_tables, float4 background, \
+    WP_GLOBAL const float* light_cdf, WP_GLOBAL const int* light_guide, \
+    int light_guide_size, WP_GLOBAL const int* light_prims, \
+    WP_GLOBAL const float* light_pdf_area, int light_count, \
+    WP_GLOBAL const TriNormals* tri_normals, WP_GLOBAL const TriUVs* tri_uvs, \
+    WP_GLOBAL const TriTangents* tri_tangents, \
+    WP_GLOBAL const MaterialTextures* material_textures, \
+    WP_GLOBAL const TextureData* textures, WP_GLOBAL const TextureView* texture_views, \
+    WP_GLOBAL const uint* texels8, WP_GLOBAL const float4* texelsf, EnvData env, \
+    WP_GLOBAL const float4* env_texels, WP_GLOBAL const float* env_marginal, \
+    WP_GLOBAL const float* env_conditional, float env_distance, float cone_spread, \
+    uint seed, int bounce, int max_depth, WP_GLOBAL float4* radiance, \
+    WP_GLOBAL int* counters, WP_GLOBAL Ray* rays_out, WP_GLOBAL PathState* paths_out, \
+    WP_GLOBAL int* count_out, WP_GLOBAL Ray* shadow_rays, WP_GLOBAL int* shadow_items, \
+    WP_GLOBAL float4* shadow_contrib, WP_GLOBAL int* shadow_count
+
 // The pushes are aggregated per work-group: every work-item posts what it pushes in a
 // local array, work-item 0 turns that into slots (a prefix sum in work-item order) and
 // reserves the group's range with a single global atomic add per queue (1 global atomic
 // per WP_GROUP_SIZE paths instead of one per path). No local atomics: on PoCL a work-group
 // runs on one thread, where each local atomic_inc was a locked instruction per path (5.6 %
 // of shade's samples under perf). Every work-item reaches the barriers.
-WP_KERNEL void shade_surface(WP_GLOBAL const Ray* rays_in, WP_GLOBAL const PathState* paths_in,
-                             WP_GLOBAL const int* count_in, WP_GLOBAL const Hit* hits,
-                             WP_GLOBAL const Triangle* tris, WP_GLOBAL const float4* tri_frames,
-                             WP_GLOBAL const int* material_ids,
-                             WP_GLOBAL const MaterialData* materials,
-                             WP_GLOBAL const float* material_tables, float4 background,
-                             WP_GLOBAL const float* light_cdf, WP_GLOBAL const int* light_guide,
-                             int light_guide_size, WP_GLOBAL const int* light_prims,
-                             WP_GLOBAL const float* light_pdf_area, int light_count,
-                             WP_GLOBAL const TriNormals* tri_normals, WP_GLOBAL const TriUVs* tri_uvs,
-                             WP_GLOBAL const TriTangents* tri_tangents,
-                             WP_GLOBAL const MaterialTextures* material_textures,
-                             WP_GLOBAL const TextureData* textures,
-                             WP_GLOBAL const TextureView* texture_views,
-                             WP_GLOBAL const uint* texels8, WP_GLOBAL const float4* texelsf,
-                             EnvData env, WP_GLOBAL const float4* env_texels,
-                             WP_GLOBAL const float* env_marginal,
-                             WP_GLOBAL const float* env_conditional, float env_distance,
-                             float cone_spread, uint seed, int bounce, int max_depth,
-                             WP_GLOBAL float4* radiance,
-                             WP_GLOBAL int* counters, WP_GLOBAL Ray* rays_out,
-                             WP_GLOBAL PathState* paths_out, WP_GLOBAL int* count_out,
-                             WP_GLOBAL Ray* shadow_rays, WP_GLOBAL int* shadow_items,
-                             WP_GLOBAL float4* shadow_contrib, WP_GLOBAL int* shadow_count) {
+WP_KERNEL void shade_surface(WP_SHADE_SURFACE_PARAMS) {
     // posts[lid]: bit 0 pushes a path, bit 1 a shadow ray; then (work-item 0) the path slot
     // in bits 0-15 and the shadow slot in bits 16-31, relative to the group's bases.
     WP_LOCAL int posts[WP_GROUP_SIZE];
@@ -605,30 +605,7 @@ WP_FN void wp_add_radiance8(WP_GLOBAL float4* radiance, const int* item, int8 m,
         if (bits & (1 << l)) wp_add_radiance(radiance, item[l], make_float3(cx[l], cy[l], cz[l]), counters);
 }
 
-WP_KERNEL void shade_surface8(WP_GLOBAL const Ray* rays_in, WP_GLOBAL const PathState* paths_in,
-                              WP_GLOBAL const int* count_in, WP_GLOBAL const Hit* hits,
-                              WP_GLOBAL const Triangle* tris, WP_GLOBAL const float4* tri_frames,
-                              WP_GLOBAL const int* material_ids,
-                              WP_GLOBAL const MaterialData* materials,
-                              WP_GLOBAL const float* material_tables, float4 background,
-                              WP_GLOBAL const float* light_cdf, WP_GLOBAL const int* light_guide,
-                              int light_guide_size, WP_GLOBAL const int* light_prims,
-                              WP_GLOBAL const float* light_pdf_area, int light_count,
-                              WP_GLOBAL const TriNormals* tri_normals, WP_GLOBAL const TriUVs* tri_uvs,
-                              WP_GLOBAL const TriTangents* tri_tangents,
-                              WP_GLOBAL const MaterialTextures* material_textures,
-                              WP_GLOBAL const TextureData* textures,
-                              WP_GLOBAL const TextureView* texture_views,
-                              WP_GLOBAL const uint* texels8, WP_GLOBAL const float4* texelsf,
-                              EnvData env, WP_GLOBAL const float4* env_texels,
-                              WP_GLOBAL const float* env_marginal,
-                              WP_GLOBAL const float* env_conditional, float env_distance,
-                              float cone_spread, uint seed, int bounce, int max_depth,
-                              WP_GLOBAL float4* radiance,
-                              WP_GLOBAL int* counters, WP_GLOBAL Ray* rays_out,
-                              WP_GLOBAL PathState* paths_out, WP_GLOBAL int* count_out,
-                              WP_GLOBAL Ray* shadow_rays, WP_GLOBAL int* shadow_items,
-                              WP_GLOBAL float4* shadow_contrib, WP_GLOBAL int* shadow_count) {
+WP_KERNEL void shade_surface8(WP_SHADE_SURFACE_PARAMS) {
     (void)material_tables, (void)tri_normals, (void)tri_uvs, (void)tri_tangents;
     (void)material_textures, (void)textures, (void)texture_views, (void)texels8, (void)texelsf;
     (void)env_texels, (void)env_marginal, (void)env_conditional, (void)env_distance;

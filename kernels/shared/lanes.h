@@ -120,12 +120,17 @@ WP_FN void wp_sincos_2pi8(float8 u, float8* s, float8* c) {
     *s = select(a, -a, (q & 2) != 0);
     *c = select(b, -b, ((q + 1) & 2) != 0);
 }
-WP_FN L3 wp_to_world8(L3 lv, L3 n) {
+// wp_onb: (t, b, n) right-handed and orthonormal for unit n.
+WP_FN void wp_onb8(L3 n, L3* t, L3* b) {
     float8 sign = copysign((float8)(1.0f), n.z);
     float8 a = -1.0f / (sign + n.z);
     float8 c = n.x * n.y * a;
-    L3 t = l3(1.0f + sign * n.x * n.x * a, sign * c, -sign * n.x);
-    L3 b = l3(c, sign + n.y * n.y * a, -n.y);
+    *t = l3(1.0f + sign * n.x * n.x * a, sign * c, -sign * n.x);
+    *b = l3(c, sign + n.y * n.y * a, -n.y);
+}
+WP_FN L3 wp_to_world8(L3 lv, L3 n) {
+    L3 t, b;
+    wp_onb8(n, &t, &b);
     return l3_add(l3_add(l3_scale(t, lv.x), l3_scale(b, lv.y)), l3_scale(n, lv.z));
 }
 WP_FN L3 wp_sample_cosine_hemisphere8(float8 u1, float8 u2) {
@@ -195,11 +200,8 @@ WP_FN L3 l3_cross(L3 a, L3 b) {
 }
 WP_FN L3 l3_normalize(L3 v) { return l3_scale(v, 1.0f / sqrt(l3_dot(v, v))); }
 WP_FN L3 wp_to_local8(L3 w, L3 n) {
-    float8 sign = copysign((float8)(1.0f), n.z);
-    float8 a = -1.0f / (sign + n.z);
-    float8 c = n.x * n.y * a;
-    L3 t = l3(1.0f + sign * n.x * n.x * a, sign * c, -sign * n.x);
-    L3 b = l3(c, sign + n.y * n.y * a, -n.y);
+    L3 t, b;
+    wp_onb8(n, &t, &b);
     return l3(l3_dot(w, t), l3_dot(w, b), l3_dot(w, n));
 }
 WP_FN L3 wp_reflect8(L3 d, L3 n) { return l3_sub(d, l3_scale(n, 2.0f * l3_dot(d, n))); }
