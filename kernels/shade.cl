@@ -487,6 +487,7 @@ WP_FN int wp_shade_path(Ray ray, PathState path, Hit hit, WP_GLOBAL const Triang
 // per WP_GROUP_SIZE paths instead of one per path). No local atomics: on PoCL a work-group
 // runs on one thread, where each local atomic_inc was a locked instruction per path (5.6 %
 // of shade's samples under perf). Every work-item reaches the barriers.
+#if !WP_SHADE_LANES  // (a program holds one of the two shade kernels: the lane one below)
 WP_KERNEL void shade_surface(WP_SHADE_SURFACE_PARAMS) {
     // posts[lid]: bit 0 pushes a path, bit 1 a shadow ray; then (work-item 0) the path slot
     // in bits 0-15 and the shadow slot in bits 16-31, relative to the group's bases.
@@ -556,6 +557,7 @@ WP_KERNEL void shade_surface(WP_SHADE_SURFACE_PARAMS) {
         shadow_contrib[slot] = contrib;
     }
 }
+#endif
 
 // shade_triangle_frames — run once per scene before the first shade_surface (ShadeStage::
 // prepare): tri_frames[t] = wp_triangle_frame of triangle t for t < count. Every hit on t and
