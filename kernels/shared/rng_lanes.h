@@ -36,8 +36,7 @@
         vw += vy * vz;                             \
     } while (0)
 
-// A uint4 that may sit at any 4-byte boundary (a row of wp_sobol_nibbles read as one vector).
-typedef uint4 __attribute__((aligned(4))) wp_uint4_rows;
+// (wp_uint4_rows: sobol.h)
 
 // The four bit-reversed Sobol coordinates (wp_sobol4_reversed) of eight indices j, as
 // four uint8 (x0: dimension 0 of every lane, ...). The nibble table is read per lane: a

@@ -177,12 +177,20 @@ WP_FN uint wp_reverse_bits(uint x) {
 
 // The four coordinates of Sobol point reverse(j), each bit-reversed: eight table rows, one
 // per nibble of j (32 bits of any index cost the same: the Owen-scrambled index uses them all).
+#if defined(__OPENCL_VERSION__)
+// A uint4 that may sit at any 4-byte boundary: a row of wp_sobol_nibbles read as one vector.
+typedef uint4 __attribute__((aligned(4))) wp_uint4_rows;
+#endif
 WP_FN uint4 wp_sobol4_reversed(uint j) {
 #if defined(__OPENCL_VERSION__)
-    // One 128-bit XOR per nibble (the host and CUDA spell the same four lanes out).
-    uint4 x = (uint4)(0u);
+    // One 128-bit XOR per nibble (the host and CUDA spell the same four lanes out). Row
+    // 16 k + v starts at byte 256 k + 16 v: the nibble shifted to bits 4..7 is the offset (a
+    // vload4 of the row by index became two 64-bit scalar loads and XORs under LLVM 15).
+    __constant const uchar* table = (__constant const uchar*)wp_sobol_nibbles;
+    uint4 x = *(__constant const wp_uint4_rows*)(table + ((j << 4) & 0xf0u));
 #pragma unroll
-    for (int k = 0; k < 8; ++k) x ^= vload4(16 * k + (int)((j >> (4 * k)) & 15u), &wp_sobol_nibbles[0][0]);
+    for (int k = 1; k < 8; ++k)
+        x ^= *(__constant const wp_uint4_rows*)(table + 256 * k + ((j >> (4 * k - 4)) & 0xf0u));
     return x;
 #else
     uint x0 = 0u, x1 = 0u, x2 = 0u, x3 = 0u;
