@@ -67,15 +67,15 @@ WP_KERNEL void probe_glossy8(int n, WP_GLOBAL const float* in, WP_GLOBAL uint* l
         sres[l][0] = ok ? 0xffffffffu : 0u;
     }
 #if defined(WP_OPENCL)
-    L3 albedo = l3(WP_LANES_F(a[0]), WP_LANES_F(a[1]), WP_LANES_F(a[2]));
-    float8 alpha = WP_LANES_F(a[3]);
-    L3 d = l3(WP_LANES_F(a[4]), WP_LANES_F(a[5]), WP_LANES_F(a[6]));
-    L3 ns = l3(WP_LANES_F(a[7]), WP_LANES_F(a[8]), WP_LANES_F(a[9]));
-    float8 u1 = WP_LANES_F(a[10]), u2 = WP_LANES_F(a[11]);
+    L3 albedo = l3(vload8(0, a[0]), vload8(0, a[1]), vload8(0, a[2]));
+    float8 alpha = vload8(0, a[3]);
+    L3 d = l3(vload8(0, a[4]), vload8(0, a[5]), vload8(0, a[6]));
+    L3 ns = l3(vload8(0, a[7]), vload8(0, a[8]), vload8(0, a[9]));
+    float8 u1 = vload8(0, a[10]), u2 = vload8(0, a[11]);
     L3 wo, weight;
     float8 pdf;
     int8 ok = wp_glossy_sample8(albedo, alpha, d, ns, u1, u2, &wo, &weight, &pdf, (int8)(-1));
-    L3 wi = l3(WP_LANES_F(wix), WP_LANES_F(wiy), WP_LANES_F(wiz));
+    L3 wi = l3(vload8(0, wix), vload8(0, wiy), vload8(0, wiz));
     float8 epdf;
     L3 f = wp_glossy_eval8(albedo, alpha, d, ns, wi, l3_dot(wi, ns), &epdf, (int8)(-1));
     L3 mwo = wp_reflect8(d, ns);
@@ -116,8 +116,8 @@ WP_KERNEL void probe_math8(int n, WP_GLOBAL const float* in, WP_GLOBAL uint* lan
         for (int k = 0; k < 8; ++k) scalar[(8 * i + l) * 8 + k] = as_uint(r[k]);
     }
 #if defined(WP_OPENCL)
-    L3 v = l3(WP_LANES_F(a[0]), WP_LANES_F(a[1]), WP_LANES_F(a[2]));
-    float8 y = WP_LANES_F(a[3]);
+    L3 v = l3(vload8(0, a[0]), vload8(0, a[1]), vload8(0, a[2]));
+    float8 y = vload8(0, a[3]);
     L3 nv = l3_normalize(v);
     L3 c = l3_cross(v, l3(y, v.z, v.x));
     float8 res[8] = {nv.x, nv.y, nv.z, pow(fabs(v.x), y), wp_pow8(fabs(v.x), y, (int8)(-1)), c.x, c.y, c.z};
@@ -165,11 +165,11 @@ WP_KERNEL void probe_misc8(int n, WP_GLOBAL const float* in, WP_GLOBAL uint* lan
         for (int k = 0; k < 32; ++k) scalar[(8 * i + l) * 32 + k] = as_uint(r[k]);
     }
 #if defined(WP_OPENCL)
-    L3 va = l3(WP_LANES_F(a[0]), WP_LANES_F(a[1]), WP_LANES_F(a[2]));
-    L3 vb = l3(WP_LANES_F(a[3]), WP_LANES_F(a[4]), WP_LANES_F(a[5]));
-    L3 vc = l3(WP_LANES_F(a[6]), WP_LANES_F(a[7]), WP_LANES_F(a[8]));
-    L3 nn = l3(WP_LANES_F(a[9]), WP_LANES_F(a[10]), WP_LANES_F(a[11]));
-    float8 u = WP_LANES_F(a[12]), v = WP_LANES_F(a[13]), s = WP_LANES_F(a[14]), t = WP_LANES_F(a[15]);
+    L3 va = l3(vload8(0, a[0]), vload8(0, a[1]), vload8(0, a[2]));
+    L3 vb = l3(vload8(0, a[3]), vload8(0, a[4]), vload8(0, a[5]));
+    L3 vc = l3(vload8(0, a[6]), vload8(0, a[7]), vload8(0, a[8]));
+    L3 nn = l3(vload8(0, a[9]), vload8(0, a[10]), vload8(0, a[11]));
+    float8 u = vload8(0, a[12]), v = vload8(0, a[13]), s = vload8(0, a[14]), t = vload8(0, a[15]);
     float8 r[32];
     wp_sincos_2pi8(u, &r[0], &r[1]);
     L3 w = wp_to_world8(va, nn), lo = wp_to_local8(va, nn);

@@ -57,10 +57,6 @@ WP_FN L3 l3_select(L3 a, L3 b, int8 c) {
 WP_FN float8 l3_max_component(L3 v) { return max(v.x, max(v.y, v.z)); }  // wp_max_component
 WP_FN int8 l3_all_finite(L3 v) { return isfinite(v.x) & isfinite(v.y) & isfinite(v.z); }
 
-// Lane l of a private array of eight (gathered per lane) as a float8 / int8.
-#define WP_LANES_F(a) vload8(0, a)
-#define WP_LANES_I(a) vload8(0, a)
-
 // The lanes of mask m as bits (bit l: lane l true).
 WP_FN int wp_lane_bits(int8 m) {
     int b[8];
