@@ -80,9 +80,9 @@ void add_config_options(CLI::App* c, ConfigArgs& a) {
         ->capture_default_str();
     c->add_option("--shade-lanes", a.shade_lanes,
                   "on: on a CPU device, shade eight paths per work-item in vector lanes where "
-                  "that kernel models the scene (diffuse materials, no shading normals, "
-                  "textures, normal maps, anisotropy or environment); the same estimator and "
-                  "numbers up to rounding. off: one path per work-item always")
+                  "that kernel models the scene (diffuse, mirror and glossy materials, shading "
+                  "normals; no other kind, textures, normal maps, anisotropy or environment); "
+                  "the same image bit for bit. off: one path per work-item always")
         ->capture_default_str();
     c->add_flag("--adaptive", a.adaptive,
                 "Adaptive sampling: after --min-spp samples, a pixel stops receiving samples "
