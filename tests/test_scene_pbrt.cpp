@@ -178,6 +178,12 @@ TEST_CASE("pbrt: bad input fails with file:line:column and the problem", "[scene
                Contains("parameter 'radius' is given twice (first at test.pbrt:4:16)"));
     CHECK_THAT(error_of_world("Shape \"sphere\" \"float radius\" -1\n"),
                Contains("test.pbrt:4:1: Shape \"sphere\": radius -1 must be > 0"));
+    // Sampled spectra: one value or whole (wavelength, value) pairs (the fuzzer found an
+    // empty light spectrum read past its end).
+    CHECK_THAT(error_of_world("AreaLightSource \"diffuse\" \"spectrum L\" [ ]\n" + std::string(kQuad)),
+               Contains("parameter \"spectrum L\" takes one value or (wavelength, value) pairs; got none"));
+    CHECK_THAT(error_of_world("Material \"diffuse\" \"spectrum reflectance\" [ ]\n" + std::string(kQuad)),
+               Contains("got none"));
     // Block structure
     CHECK_THAT(error_of_world("AttributeEnd\n"), Contains("test.pbrt:4:1: AttributeEnd without"));
     CHECK_THAT(error_of_world("AttributeBegin\n" + std::string(kQuad)),

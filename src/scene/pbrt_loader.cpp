@@ -968,6 +968,10 @@ std::optional<SpecVal> Reader::get_spectrum(Directive& d, std::string_view name,
             }
             return v;
         }
+        // (Odd counts are refused where the parameter is read; an empty list is refused here.)
+        if (p->nums.empty())
+            error(p->loc, "{}: parameter \"{}\" takes one value or (wavelength, value) pairs; got none",
+                  d.describe(), p->decl());
         if (p->nums.size() == 1) {
             v.rgb = glm::vec3(float(p->nums[0]));
         } else if (use == SpecUse::Light) {
