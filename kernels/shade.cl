@@ -576,14 +576,18 @@ WP_KERNEL void shade_triangle_frames(WP_GLOBAL const Triangle* tris, int count,
 // why: PoCL runs shade_surface one path at a time). Same arguments, same contract and the
 // same numbers per path; the host launches it with one work-item per eight queue entries
 // (work-item w: entries 8 w .. 8 w + 7) where KernelConfig::shade_lanes() says it models
-// the scene: the kinds, features and debug switches it has no lane code for are refused
-// here at compile time.
-#if WP_HAVE_GLASS || WP_HAVE_CONDUCTOR || WP_HAVE_ROUGH_CONDUCTOR ||                      \
-    WP_HAVE_ROUGH_DIELECTRIC || WP_HAVE_THIN_DIELECTRIC || WP_HAVE_PLASTIC ||               \
-    WP_HAVE_ROUGH_PLASTIC || WP_HAVE_TEXTURES || WP_HAVE_NORMAL_MAPS || WP_HAVE_ENV ||      \
-    WP_HAVE_ANISOTROPY || WP_INJECT_NAN
-#error "shade_surface8 models diffuse, mirror and glossy triangles, shading normals and no other appearance feature (KernelConfig::shade_lanes)"
+// the scene: the features and debug switches it has no lane code for are refused here at
+// compile time. Diffuse, mirror and glossy lanes run lane code (lanes.h); the lanes of every
+// other kind call that kind's scalar sample and eval (bsdf.h) one lane at a time, inside
+// the same lane code for the rest of the vertex (emission, light sampling, the normals'
+// guards, roulette, pushes).
+#if WP_HAVE_TEXTURES || WP_HAVE_NORMAL_MAPS || WP_HAVE_ENV || WP_HAVE_ANISOTROPY || WP_INJECT_NAN
+#error "shade_surface8 models shading normals and no other appearance feature (KernelConfig::shade_lanes)"
 #endif
+// Kinds without lane code: their lanes take the scalar BSDF (WP_LANES_SCALAR_KINDS).
+#define WP_LANES_SCALAR_KINDS                                                             \
+    (WP_HAVE_GLASS || WP_HAVE_CONDUCTOR || WP_HAVE_ROUGH_CONDUCTOR || WP_HAVE_ROUGH_DIELECTRIC || \
+     WP_HAVE_THIN_DIELECTRIC || WP_HAVE_PLASTIC || WP_HAVE_ROUGH_PLASTIC)
 #include "shared/lanes.h"
 #include "shared/rng_lanes.h"
 
@@ -606,6 +610,73 @@ WP_FN void wp_add_radiance8(WP_GLOBAL float4* radiance, const int* item, int8 m,
     for (int l = 0; l < 8; ++l)
         if (bits & (1 << l)) wp_add_radiance(radiance, item[l], make_float3(cx[l], cy[l], cz[l]), counters);
 }
+
+#if WP_LANES_SCALAR_KINDS
+// The lanes of mask m, one at a time, through the scalar BSDF of their material (bsdf.h),
+// each with exactly the scalar kernel's arguments: f cos and the density of wi into the
+// lanes of *fcos and *pdf (zero and 0 where the scalar eval gives them).
+WP_FN void wp_scalar_eval8(WP_GLOBAL const MaterialData* materials, WP_GLOBAL const float* tables,
+                           const int* mid, int8 m, L3 dn, L3 ns, int8 front, L3 wi, L3* fcos, float8* pdf) {
+    float dx[8], dy[8], dz[8], nx[8], ny[8], nz[8], wx[8], wy[8], wz[8], fx[8], fy[8], fz[8], pa[8];
+    int fr[8];
+    vstore8(dn.x, 0, dx), vstore8(dn.y, 0, dy), vstore8(dn.z, 0, dz);
+    vstore8(ns.x, 0, nx), vstore8(ns.y, 0, ny), vstore8(ns.z, 0, nz);
+    vstore8(wi.x, 0, wx), vstore8(wi.y, 0, wy), vstore8(wi.z, 0, wz);
+    vstore8(fcos->x, 0, fx), vstore8(fcos->y, 0, fy), vstore8(fcos->z, 0, fz);
+    vstore8(*pdf, 0, pa);
+    vstore8(front, 0, fr);
+    const int bits = wp_lane_bits(m);
+    for (int l = 0; l < 8; ++l) {
+        if (!(bits & (1 << l))) continue;
+        float p = 0.0f;
+        const float3 f = wp_bsdf_eval(materials[mid[l]], tables, make_float3(dx[l], dy[l], dz[l]),
+                                      make_float3(nx[l], ny[l], nz[l]), fr[l] != 0,
+                                      make_float3(wx[l], wy[l], wz[l]), &p);
+        fx[l] = f.x, fy[l] = f.y, fz[l] = f.z, pa[l] = p;
+    }
+    *fcos = l3(vload8(0, fx), vload8(0, fy), vload8(0, fz));
+    *pdf = vload8(0, pa);
+}
+
+// The lanes of mask m, one at a time, through their material's scalar sample (bsdf.h):
+// direction, weight, density and the Dirac flag into their lanes; returns the mask of the
+// lanes whose sample did not absorb the path.
+WP_FN int8 wp_scalar_sample8(WP_GLOBAL const MaterialData* materials, WP_GLOBAL const float* tables,
+                             const int* mid, int8 m, L3 dn, L3 ns, int8 front, float8 ux, float8 uy,
+                             float8 uz, float8 uw, L3* wo, L3* weight, float8* pdf, int8* specular) {
+    float dx[8], dy[8], dz[8], nx[8], ny[8], nz[8], u0[8], u1[8], u2[8], u3[8];
+    float ox[8], oy[8], oz[8], gx[8], gy[8], gz[8], pa[8];
+    int fr[8], sp[8], ok[8];
+    vstore8(dn.x, 0, dx), vstore8(dn.y, 0, dy), vstore8(dn.z, 0, dz);
+    vstore8(ns.x, 0, nx), vstore8(ns.y, 0, ny), vstore8(ns.z, 0, nz);
+    vstore8(ux, 0, u0), vstore8(uy, 0, u1), vstore8(uz, 0, u2), vstore8(uw, 0, u3);
+    vstore8(wo->x, 0, ox), vstore8(wo->y, 0, oy), vstore8(wo->z, 0, oz);
+    vstore8(weight->x, 0, gx), vstore8(weight->y, 0, gy), vstore8(weight->z, 0, gz);
+    vstore8(*pdf, 0, pa);
+    vstore8(*specular, 0, sp);
+    vstore8(front, 0, fr);
+    const int bits = wp_lane_bits(m);
+    for (int l = 0; l < 8; ++l) {
+        ok[l] = 0;
+        if (!(bits & (1 << l))) continue;
+        float3 w, g;
+        float p;
+        int s;
+        ok[l] = wp_bsdf_sample_pdf(materials[mid[l]], tables, make_float3(dx[l], dy[l], dz[l]),
+                                   make_float3(nx[l], ny[l], nz[l]), fr[l] != 0,
+                                   make_float4(u0[l], u1[l], u2[l], u3[l]), &w, &g, &p, &s) ? -1 : 0;
+        if (!ok[l]) continue;
+        ox[l] = w.x, oy[l] = w.y, oz[l] = w.z;
+        gx[l] = g.x, gy[l] = g.y, gz[l] = g.z;
+        pa[l] = p, sp[l] = s ? -1 : 0;
+    }
+    *wo = l3(vload8(0, ox), vload8(0, oy), vload8(0, oz));
+    *weight = l3(vload8(0, gx), vload8(0, gy), vload8(0, gz));
+    *pdf = vload8(0, pa);
+    *specular = vload8(0, sp);
+    return vload8(0, ok);
+}
+#endif
 
 WP_KERNEL void shade_surface8(WP_SHADE_SURFACE_PARAMS) {
     (void)material_tables, (void)tri_normals, (void)tri_uvs, (void)tri_tangents;
@@ -667,6 +738,9 @@ WP_KERNEL void shade_surface8(WP_SHADE_SURFACE_PARAMS) {
         float nx[8], ny[8], nz[8], toff[8], ax[8], ay[8], az[8], ex[8], ey[8], ez[8], pa[8];
         float alpha_a[8];
         int kind_a[8];
+#if WP_LANES_SCALAR_KINDS
+        int mid_a[8], dirac_a[8];  // the material; its kind is specular (wp_material_is_specular)
+#endif
 #pragma unroll
         for (int l = 0; l < 8; ++l) {
             int t = max(prim_a[l], 0);
@@ -675,6 +749,10 @@ WP_KERNEL void shade_surface8(WP_SHADE_SURFACE_PARAMS) {
             int mid = material_ids[t];
             float4 alb = materials[mid].albedo, em = materials[mid].emission;
             kind_a[l] = materials[mid].kind;
+#if WP_LANES_SCALAR_KINDS
+            mid_a[l] = mid;
+            dirac_a[l] = wp_material_is_specular(materials[mid]) ? -1 : 0;
+#endif
             alpha_a[l] = materials[mid].alpha;
             v0x[l] = tri.v0.x, v0y[l] = tri.v0.y, v0z[l] = tri.v0.z;
             v1x[l] = tri.v1.x, v1y[l] = tri.v1.y, v1z[l] = tri.v1.z;
@@ -700,6 +778,13 @@ WP_KERNEL void shade_surface8(WP_SHADE_SURFACE_PARAMS) {
         const int8 diffuse = WP_HAVE_DIFFUSE ? kind == WP_MATERIAL_DIFFUSE : (int8)(0);
         const int8 glossy = WP_HAVE_GLOSSY ? kind == WP_MATERIAL_GLOSSY : (int8)(0);
         const int8 mirror = WP_HAVE_MIRROR ? kind == WP_MATERIAL_MIRROR : (int8)(0);
+#if WP_LANES_SCALAR_KINDS
+        // The lanes of the kinds without lane code, and those of them that are Dirac only.
+        const int8 other = ~(diffuse | glossy | mirror);
+        const int8 other_dirac = other & vload8(0, dirac_a);
+#else
+        const int8 other_dirac = (int8)(0);
+#endif
         const int8 front = l3_dot(d, n) < 0.0f;
         const L3 dn = l3_scale(d, 1.0f / sqrt(l3_dot(d, d)));  // normalize(d)
         const float p_env = wp_env_choice(light_count, env);
@@ -767,7 +852,7 @@ WP_KERNEL void shade_surface8(WP_SHADE_SURFACE_PARAMS) {
 #if WP_HAVE_NEE
             // Next-event estimation at the non-specular lanes: a point on a light chosen by
             // power; the shadow stage adds the contribution when the segment is unoccluded.
-            const int8 sampled = alive & ~mirror;
+            const int8 sampled = alive & ~mirror & ~other_dirac;
             if (light_count > 0 && wp_lane_bits(sampled)) {
                 float8 ulx, uly, ulz, ulw;
                 wp_rng4_lanes(seed, pixel, sample, (uint)bounce, WP_RNG_LIGHT, &ulx, &uly, &ulz, &ulw);
@@ -775,9 +860,12 @@ WP_KERNEL void shade_surface8(WP_SHADE_SURFACE_PARAMS) {
                 vstore8(ulz, 0, ulz_a);
                 float l0x[8], l0y[8], l0z[8], l1x[8], l1y[8], l1z[8], l2x[8], l2y[8], l2z[8];
                 float lnx[8], lny[8], lnz[8], loff[8], lpa[8], lex[8], ley[8], lez[8];
+                // Lanes without a light sample (Dirac kinds, dead paths) read light 0: no
+                // search of the table, no miss on a random light triangle.
+                const int sampled_bits = wp_lane_bits(sampled);
 #pragma unroll
                 for (int l = 0; l < 8; ++l) {
-                    int li = wp_light_pick(light_cdf, light_count, light_guide, light_guide_size, ulz_a[l]);
+                    int li = (sampled_bits >> l) & 1 ? wp_light_pick(light_cdf, light_count, light_guide, light_guide_size, ulz_a[l]) : 0;
                     int lp = light_prims[li];
                     Triangle lt = tris[lp];
                     float4 lf = tri_frames[lp];
@@ -817,6 +905,11 @@ WP_KERNEL void shade_surface8(WP_SHADE_SURFACE_PARAMS) {
                     fcos = l3_select(fcos, gf, glossy);
                     bsdf_pdf = select(bsdf_pdf, gpdf, glossy);
                 }
+#endif
+#if WP_LANES_SCALAR_KINDS
+                if (wp_lane_bits(other & sampled))
+                    wp_scalar_eval8(materials, material_tables, mid_a, other & sampled, dn, ns, front, wi,
+                                    &fcos, &bsdf_pdf);
 #endif
 #if WP_HAVE_NORMALS
                 // Light on the geometric side of the lobe only (failure mode 2), and the
@@ -882,9 +975,16 @@ WP_KERNEL void shade_surface8(WP_SHADE_SURFACE_PARAMS) {
                 weight = l3_select(weight, albedo, mirror);
                 pdf = select(pdf, (float8)(0.0f), mirror);
             }
-            const int8 specular = mirror;
+            int8 specular = mirror;
 #else
-            const int8 specular = (int8)(0);
+            int8 specular = (int8)(0);
+#endif
+#if WP_LANES_SCALAR_KINDS
+            if (wp_lane_bits(other & alive)) {
+                const int8 drawn = wp_scalar_sample8(materials, material_tables, mid_a, other & alive, dn, ns,
+                                                     front, ux, uy, uz, uw, &wo, &weight, &pdf, &specular);
+                alive &= ~other | drawn;  // the kind's sample absorbed the path
+            }
 #endif
             alive &= specular | (pdf > 0.0f);  // a zero-density draw (measure zero): absorbed
 #if WP_HAVE_NORMALS

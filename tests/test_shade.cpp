@@ -10,6 +10,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstring>
+#include <functional>
 #include <map>
 #include <string>
 #include <numeric>
@@ -55,6 +56,8 @@ struct ShadeCase {
     std::vector<float> light_pdf_area;
     // Per-triangle shading normals (configs with normals on); empty: none uploaded.
     std::vector<TriNormals> normals;
+    // The material tables (MaterialData.table: rough plastics); empty: none uploaded.
+    std::vector<float> tables;
 };
 
 struct ShadeOut {
@@ -104,6 +107,7 @@ ShadeOut run_shade(const ShadeCase& c) {
     scene.light_pdf_area = ocl::Array<float>::upload(dev, c.light_pdf_area, "light pdf");
     scene.light_count = static_cast<int>(c.light_prims.size());
     if (!c.normals.empty()) scene.tri_normals = ocl::Array<TriNormals>::upload(dev, c.normals, "normals");
+    if (!c.tables.empty()) scene.material_tables = ocl::Array<float>::upload(dev, c.tables, "material tables");
     render::ShadowQueue shadow;
     shadow.rays = ocl::Array<Ray>::allocate(dev, n, "shadow rays");
     shadow.items = ocl::Array<int>::allocate(dev, n, "shadow items");
@@ -649,14 +653,14 @@ TEST_CASE("shade (shipped configuration): Russian roulette keeps paths with prob
     CHECK(run_shade(c).count == n);
 }
 
-// shade_surface8 (eight paths per work-item, kernels/shared/lanes.h) is a second spelling of
-// shade_surface for scenes of diffuse, glossy and mirror triangles with or without shading
-// normals: on random hits — triangles from 1e-3 to 1e3 units, emitters seen from both
-// sides, vertex normals bent far from the face (some reversed), misses, paths that arrived
-// by a Dirac lobe, non-finite throughputs, a queue length that is not a multiple of eight —
-// every output bit must equal shade_surface's, in every estimator and glossy model.
-TEST_CASE("shade: eight paths per work-item give shade_surface's bits", "[kernel][shade]") {
-    std::mt19937 rng(0x5eed8);
+namespace {
+
+// Random hits for the lane tests: 40 triangles from 1e-3 to 1e3 units (the first six
+// emitters, seen from both sides), vertex normals on every other one bent by up to ~35
+// degrees (one vertex normal reversed now and then), misses, paths that arrived by a Dirac
+// lobe, NaN and infinite throughputs, a queue length that is not a multiple of eight.
+// material_of(t) gives triangle t's material (emission is set here for the lights).
+ShadeCase random_lane_case(std::mt19937& rng, const std::function<MaterialData(int)>& material_of) {
     std::uniform_real_distribution<float> u01(0.0f, 1.0f);
     ShadeCase base;
     const int tris = 40, lights = 6;
@@ -672,13 +676,10 @@ TEST_CASE("shade: eight paths per work-item give shade_surface's bits", "[kernel
         base.tris.push_back({vert(), vert(), vert()});
         const bool light = t < lights;
         base.material_ids.push_back(t);
-        const int kind = light ? WP_MATERIAL_DIFFUSE : (t % 3 == 0 ? WP_MATERIAL_DIFFUSE : t % 3 == 1 ? WP_MATERIAL_GLOSSY : WP_MATERIAL_MIRROR);
-        MaterialData m = material(kind, {u01(rng), u01(rng), u01(rng)},
-                                  light ? glm::vec3(1 + 9 * u01(rng), 2, 3 * u01(rng)) : glm::vec3(0));
-        if (kind == WP_MATERIAL_GLOSSY) m.alpha = m.alpha_v = std::pow(10.0f, -2.0f * u01(rng));
+        MaterialData m = light ? material(WP_MATERIAL_DIFFUSE, {u01(rng), u01(rng), u01(rng)},
+                                          glm::vec3(1 + 9 * u01(rng), 2, 3 * u01(rng)))
+                               : material_of(t);
         base.materials.push_back(m);
-        // Shading normals: none (zero) on every other triangle, else the face normal bent
-        // by up to ~35 degrees per vertex (one vertex normal reversed now and then).
         TriNormals tn{};
         if (t % 2 == 1) {
             const Triangle& tr = base.tris.back();
@@ -724,6 +725,15 @@ TEST_CASE("shade: eight paths per work-item give shade_surface's bits", "[kernel
     }
     base.pixels = n;
     base.background = {0.25f, 0.5f, 0.75f, 0};
+    return base;
+}
+
+// Shades `base` with shade_surface and with shade_surface8 in four estimators (default
+// MIS/Sobol/roulette, the original, NEE with roulette from bounce 1, cosine + Phong), with
+// and without shading normals, at bounces 0, 1 and at the depth limit, with the material
+// kinds `kinds` compiled, and requires every output bit to agree.
+void check_lanes_match_scalar(const ShadeCase& base, const std::vector<MaterialKind>& kinds) {
+    const int n = static_cast<int>(base.rays.size());
     std::vector<render::Estimator> estimators = {render::Estimator{}, render::Estimator::original(),
                                                  {render::Sampling::Nee, render::GlossyModel::Ggx, true, 1},
                                                  {render::Sampling::Cosine, render::GlossyModel::Phong, false, 0}};
@@ -733,8 +743,7 @@ TEST_CASE("shade: eight paths per work-item give shade_surface's bits", "[kernel
             ShadeCase scalar = base;
             scalar.config = render::KernelConfig{};
             scalar.config.kinds.reset();
-            for (MaterialKind k : {MaterialKind::Diffuse, MaterialKind::Mirror, MaterialKind::Glossy})
-                scalar.config.kinds.set(static_cast<std::size_t>(k));
+            for (MaterialKind k : kinds) scalar.config.kinds.set(static_cast<std::size_t>(k));
             scalar.config.estimator = e;
             scalar.config.normals = normals;
             if (!normals) scalar.normals.clear();
@@ -742,7 +751,7 @@ TEST_CASE("shade: eight paths per work-item give shade_surface's bits", "[kernel
             scalar.max_depth = bounce == 4 ? 4 : 8;  // at the depth limit: emission only
             scalar.seed = 11u + unsigned(bounce);
             ShadeCase lanes = scalar;
-            lanes.config.lanes = true;
+            lanes.config.lanes = render::ShadeLanes::On;
             REQUIRE(lanes.config.shade_lanes());
             REQUIRE_FALSE(scalar.config.shade_lanes());
             const ShadeOut a = run_shade(scalar), b = run_shade(lanes);
@@ -757,19 +766,48 @@ TEST_CASE("shade: eight paths per work-item give shade_surface's bits", "[kernel
             CHECK(output_differences(a, b, n) == 0);
         }
     }
-    // The lane kernel is chosen only where it models the configuration.
+}
+
+}  // namespace
+
+// shade_surface8 (eight paths per work-item, kernels/shared/lanes.h) is a second spelling of
+// shade_surface: on random hits (random_lane_case) every output bit must equal
+// shade_surface's, in every estimator and glossy model. First the kinds it has lane code
+// for (diffuse, glossy, mirror).
+TEST_CASE("shade: eight paths per work-item give shade_surface's bits", "[kernel][shade]") {
+    std::mt19937 rng(0x5eed8);
+    std::uniform_real_distribution<float> u01(0.0f, 1.0f);
+    const ShadeCase base = random_lane_case(rng, [&](int t) {
+        const int kind = t % 3 == 0 ? WP_MATERIAL_DIFFUSE : t % 3 == 1 ? WP_MATERIAL_GLOSSY : WP_MATERIAL_MIRROR;
+        MaterialData m = material(kind, {u01(rng), u01(rng), u01(rng)});
+        if (kind == WP_MATERIAL_GLOSSY) m.alpha = m.alpha_v = std::pow(10.0f, -2.0f * u01(rng));
+        return m;
+    });
+    check_lanes_match_scalar(base, {MaterialKind::Diffuse, MaterialKind::Mirror, MaterialKind::Glossy});
+    // On: the lane kernel wherever it models the configuration: every material kind, and
+    // none of the appearance features it has no lane code for, no NaN injection. Auto: not
+    // for scenes with glass, conductors or thin dielectrics.
     render::KernelConfig k;
-    k.lanes = true;
-    CHECK_FALSE(k.shade_lanes());  // every kind
-    k.kinds.reset();
-    for (MaterialKind kind : {MaterialKind::Diffuse, MaterialKind::Mirror, MaterialKind::Glossy})
-        k.kinds.set(static_cast<std::size_t>(kind));
+    CHECK_FALSE(k.shade_lanes());  // lanes not allowed (a GPU, or --shade-lanes off)
+    k.lanes = render::ShadeLanes::On;
+    CHECK(k.shade_lanes());  // every kind
     k.normals = true;
     CHECK(k.shade_lanes());
-    for (MaterialKind kind : {MaterialKind::Glass, MaterialKind::Plastic, MaterialKind::RoughConductor}) {
-        render::KernelConfig f = k;
-        f.kinds.set(static_cast<std::size_t>(kind));
-        CHECK_FALSE(f.shade_lanes());
+    {
+        render::KernelConfig a = k;
+        a.lanes = render::ShadeLanes::Auto;
+        CHECK_FALSE(a.shade_lanes());  // every kind: glass among them
+        a.kinds.reset();
+        for (MaterialKind kind : {MaterialKind::Diffuse, MaterialKind::Mirror, MaterialKind::Glossy,
+                                  MaterialKind::RoughConductor, MaterialKind::RoughDielectric,
+                                  MaterialKind::Plastic, MaterialKind::RoughPlastic})
+            a.kinds.set(static_cast<std::size_t>(kind));
+        CHECK(a.shade_lanes());
+        for (MaterialKind kind : {MaterialKind::Glass, MaterialKind::Conductor, MaterialKind::ThinDielectric}) {
+            render::KernelConfig f = a;
+            f.kinds.set(static_cast<std::size_t>(kind));
+            CHECK_FALSE(f.shade_lanes());
+        }
     }
     for (auto feature : {&render::KernelConfig::textures,
                          &render::KernelConfig::normal_maps, &render::KernelConfig::env,
@@ -780,4 +818,46 @@ TEST_CASE("shade: eight paths per work-item give shade_surface's bits", "[kernel
     }
     k.inject_nan = 1;
     CHECK_FALSE(k.shade_lanes());
+}
+
+// The kinds without lane code (glass, conductors, rough dielectrics, thin dielectrics,
+// plastics) take their scalar BSDF lane by lane inside shade_surface8: mixed with the lane
+// kinds on the same random hits, every output bit must still equal shade_surface's. The
+// materials come from the host's own upload (upload_scene), so their parameters, plastic
+// weights and rough-plastic tables are what a scene file gives.
+TEST_CASE("shade: eight paths per work-item give shade_surface's bits with every material kind",
+          "[kernel][shade]") {
+    std::mt19937 rng(0x5eed9);
+    std::uniform_real_distribution<float> u01(0.0f, 1.0f);
+    Scene scene;
+    scene.name = "lanes";
+    std::vector<MaterialKind> kinds;
+    for (int k = 0; k < WP_MATERIAL_KIND_COUNT; ++k) kinds.push_back(static_cast<MaterialKind>(k));
+    // Two materials of each kind: rough kinds GGX and Beckmann, separable G or not,
+    // roughness from 1e-3 to 1; plastics linear and not; dielectrics entered from either side.
+    for (int i = 0; i < 2 * WP_MATERIAL_KIND_COUNT; ++i) {
+        Material m;
+        m.kind = kinds[std::size_t(i % WP_MATERIAL_KIND_COUNT)];
+        m.albedo = {u01(rng), u01(rng), u01(rng)};
+        m.alpha = std::pow(10.0f, -3.0f * u01(rng));
+        if (m.kind == MaterialKind::Glossy) m.alpha = std::max(m.alpha, 1e-2f);
+        m.distribution = i / WP_MATERIAL_KIND_COUNT == 0 ? MicrofacetModel::GGX : MicrofacetModel::Beckmann;
+        m.separable_g = i / WP_MATERIAL_KIND_COUNT == 1;
+        m.ior = i % 2 ? 1.5f : 1.0f / 1.33f;
+        m.specular = {0.5f + 0.5f * u01(rng), 1.0f, 0.9f};
+        m.eta = {0.2f + 2 * u01(rng), 0.9f, 1.1f};
+        m.k = {3 * u01(rng), 2.5f, 0.5f};
+        m.nonlinear = i / WP_MATERIAL_KIND_COUNT == 1;
+        scene.materials.push_back(m);
+        const auto v = static_cast<std::uint32_t>(scene.positions.size());
+        scene.positions.insert(scene.positions.end(), {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}});
+        scene.triangles.push_back({v, v + 1, v + 2});
+        scene.material_ids.push_back(std::uint32_t(i));
+    }
+    const SceneUpload up = upload_scene(scene);
+    REQUIRE_FALSE(up.material_tables.empty());  // the rough plastics' tables
+    int next = 0;
+    ShadeCase base = random_lane_case(rng, [&](int) { return up.materials[std::size_t(next++) % up.materials.size()]; });
+    base.tables = up.material_tables;
+    check_lanes_match_scalar(base, kinds);
 }
