@@ -683,30 +683,59 @@ WP_KERNEL void shade_surface8(WP_SHADE_SURFACE_PARAMS) {
     (void)material_textures, (void)textures, (void)texture_views, (void)texels8, (void)texelsf;
     (void)env_texels, (void)env_marginal, (void)env_conditional, (void)env_distance;
     (void)cone_spread;
-    const int base = 8 * wp_global_id();
+    const int base = WP_SHADE_LANE_ENTRIES * wp_global_id();
     const int count = count_in[0];
 
-    // What each lane pushes, lane by lane (filled below for the lanes of push / shadow).
-    PathState ps[8];
-    int item[8];
-    float nox[8], noy[8], noz[8], ndx[8], ndy[8], ndz[8], nbx[8], nby[8], nbz[8], npdf[8];
-    float sox[8], soy[8], soz[8], sdx[8], sdy[8], sdz[8], stm[8], scx[8], scy[8], scz[8];
+    // What each packed lane pushes, lane by lane (filled below for the lanes of push / shadow).
+    PathState ps[WP_SHADE_LANE_ENTRIES];
+    int item[WP_SHADE_LANE_ENTRIES];
+    float nox[WP_SHADE_LANE_ENTRIES], noy[WP_SHADE_LANE_ENTRIES], noz[WP_SHADE_LANE_ENTRIES];
+    float ndx[WP_SHADE_LANE_ENTRIES], ndy[WP_SHADE_LANE_ENTRIES], ndz[WP_SHADE_LANE_ENTRIES];
+    float nbx[WP_SHADE_LANE_ENTRIES], nby[WP_SHADE_LANE_ENTRIES], nbz[WP_SHADE_LANE_ENTRIES];
+    float npdf[WP_SHADE_LANE_ENTRIES];
+    float sox[WP_SHADE_LANE_ENTRIES], soy[WP_SHADE_LANE_ENTRIES], soz[WP_SHADE_LANE_ENTRIES];
+    float sdx[WP_SHADE_LANE_ENTRIES], sdy[WP_SHADE_LANE_ENTRIES], sdz[WP_SHADE_LANE_ENTRIES];
+    float stm[WP_SHADE_LANE_ENTRIES];
+    float scx[WP_SHADE_LANE_ENTRIES], scy[WP_SHADE_LANE_ENTRIES], scz[WP_SHADE_LANE_ENTRIES];
     int push_bits = 0, shadow_bits = 0;
-    if (base < count) {
-        // Gather the lanes' queue entries (lanes past the queue repeat its last entry and
-        // stay inactive).
+
+    // The work-item's queue entries one at a time: the entry guard and the escaped rays
+    // (shade_surface's own code: a path whose throughput is not finite ends, counted; a miss
+    // adds the constant background, no environment in this kernel), and the surface hits
+    // packed into hit_e[0, nh), so that the lanes below shade surface hits only (in an open
+    // scene the escaped rays would idle half of them).
+    int hit_e[WP_SHADE_LANE_ENTRIES];
+    int nh = 0, nonfinite = 0;
+    for (int e = 0; e < WP_SHADE_LANE_ENTRIES && base + e < count; ++e) {
+        const int i = base + e;
+        const PathState p = paths_in[i];
+        const int hprim = hits[i].prim;
+        const float3 b = wp_xyz(p.throughput);
+        if (!wp_all_finite3(b))
+            ++nonfinite;
+        else if (hprim < 0)
+            wp_add_radiance(radiance, p.item, b * wp_xyz(background), counters);
+        else
+            hit_e[nh++] = i;
+    }
+    if (nonfinite > 0) wp_atomic_add(&counters[WP_COUNTER_SHADE_NONFINITE], nonfinite);
+
+    // The packed hits, eight lanes at a time (lane l of group g: hit_e[g + l]).
+    for (int g = 0; g < nh; g += 8) {
+        // Gather the lanes' queue entries (lanes past the packed hits repeat the last one
+        // and stay inactive).
         float dx[8], dy[8], dz[8], tx[8], ty[8], tz[8], tw[8], ht[8], hu[8], hv[8];
         int prim_a[8], valid_a[8];
         uint pixel_a[8], sample_a[8];
 #pragma unroll
         for (int l = 0; l < 8; ++l) {
-            int i = min(base + l, count - 1);
-            valid_a[l] = base + l < count ? -1 : 0;
+            int i = hit_e[min(g + l, nh - 1)];
+            valid_a[l] = g + l < nh ? -1 : 0;
             Ray r = rays_in[i];
             PathState p = paths_in[i];
             Hit h = hits[i];
-            ps[l] = p;
-            item[l] = p.item;
+            ps[g + l] = p;
+            item[g + l] = p.item;
             pixel_a[l] = (uint)p.pixel;
             sample_a[l] = p.sample;
             dx[l] = r.dir.x, dy[l] = r.dir.y, dz[l] = r.dir.z;
@@ -715,23 +744,13 @@ WP_KERNEL void shade_surface8(WP_SHADE_SURFACE_PARAMS) {
             ht[l] = h.t, hu[l] = h.u, hv[l] = h.v;
             prim_a[l] = h.prim;
         }
-        const int8 valid = vload8(0, valid_a);
-        const int8 prim = vload8(0, prim_a);
+        const int* const gitem = item + g;
         const uint8 pixel = vload8(0, pixel_a), sample = vload8(0, sample_a);
         const L3 d = l3(vload8(0, dx), vload8(0, dy), vload8(0, dz));
         const float8 thr_w = vload8(0, tw);
         L3 beta = l3(vload8(0, tx), vload8(0, ty), vload8(0, tz));
         const int8 arrived_specular = bounce > 0 ? thr_w == 0.0f : (int8)(0);
-
-        // Entry guard: a path whose throughput is not finite ends here, counted.
-        const int8 finite = l3_all_finite(beta);
-        wp_count_nonfinite8(valid & ~finite, counters);
-        const int8 active = valid & finite;
-
-        // Escaped: the constant background (no environment in this kernel).
-        const int8 miss = active & (prim < 0);
-        wp_add_radiance8(radiance, item, miss, l3_mul(beta, l3_splat(background.x, background.y, background.z)), counters);
-        int8 alive = active & (prim >= 0);
+        int8 alive = vload8(0, valid_a);  // finite throughput, a surface hit (packed above)
 
         // Surface: the triangle, its frame and material (misses read triangle 0, unused).
         float v0x[8], v0y[8], v0z[8], v1x[8], v1y[8], v1z[8], v2x[8], v2y[8], v2z[8];
@@ -808,7 +827,7 @@ WP_KERNEL void shade_surface8(WP_SHADE_SURFACE_PARAMS) {
                 w = select(w, (float8)(0.0f), weighed);
 #endif
 #endif
-                wp_add_radiance8(radiance, item, emits & (w > 0.0f), l3_scale(l3_mul(beta, e), w), counters);
+                wp_add_radiance8(radiance, gitem, emits & (w > 0.0f), l3_scale(l3_mul(beta, e), w), counters);
             }
         }
 #endif
@@ -936,11 +955,11 @@ WP_KERNEL void shade_surface8(WP_SHADE_SURFACE_PARAMS) {
                     const L3 so = l3_select(org_below, org, l3_dot(wi, ng) > 0.0f);
                     const L3 sd = l3_sub(y, so);
                     const float8 tmax = wp_shadow_tmax8(sd, yerr, ln, vload8(0, loff));
-                    shadow_bits = wp_lane_bits(shadow);
-                    vstore8(so.x, 0, sox), vstore8(so.y, 0, soy), vstore8(so.z, 0, soz);
-                    vstore8(sd.x, 0, sdx), vstore8(sd.y, 0, sdy), vstore8(sd.z, 0, sdz);
-                    vstore8(tmax, 0, stm);
-                    vstore8(c.x, 0, scx), vstore8(c.y, 0, scy), vstore8(c.z, 0, scz);
+                    shadow_bits |= wp_lane_bits(shadow) << g;
+                    vstore8(so.x, 0, sox + g), vstore8(so.y, 0, soy + g), vstore8(so.z, 0, soz + g);
+                    vstore8(sd.x, 0, sdx + g), vstore8(sd.y, 0, sdy + g), vstore8(sd.z, 0, sdz + g);
+                    vstore8(tmax, 0, stm + g);
+                    vstore8(c.x, 0, scx + g), vstore8(c.y, 0, scy + g), vstore8(c.z, 0, scz + g);
                 }
             }
 #endif
@@ -1012,22 +1031,22 @@ WP_KERNEL void shade_surface8(WP_SHADE_SURFACE_PARAMS) {
             // The continued path, from the origin on the geometric side it leaves; w: the
             // density of wo, 0 after a Dirac lobe (PathState).
             const L3 on = l3_select(org_below, org, l3_dot(wo, ng) > 0.0f);
-            push_bits = wp_lane_bits(alive);
-            vstore8(on.x, 0, nox), vstore8(on.y, 0, noy), vstore8(on.z, 0, noz);
-            vstore8(wo.x, 0, ndx), vstore8(wo.y, 0, ndy), vstore8(wo.z, 0, ndz);
-            vstore8(beta.x, 0, nbx), vstore8(beta.y, 0, nby), vstore8(beta.z, 0, nbz);
-            vstore8(select(pdf, (float8)(0.0f), specular), 0, npdf);
+            push_bits |= wp_lane_bits(alive) << g;
+            vstore8(on.x, 0, nox + g), vstore8(on.y, 0, noy + g), vstore8(on.z, 0, noz + g);
+            vstore8(wo.x, 0, ndx + g), vstore8(wo.y, 0, ndy + g), vstore8(wo.z, 0, ndz + g);
+            vstore8(beta.x, 0, nbx + g), vstore8(beta.y, 0, nby + g), vstore8(beta.z, 0, nbz + g);
+            vstore8(select(pdf, (float8)(0.0f), specular), 0, npdf + g);
         }
     }
 
-    // One global atomic per work-item and queue (per eight paths). No work-group barrier:
+    // One global atomic per work-item and queue (per WP_SHADE_LANE_ENTRIES paths). No work-group barrier:
     // PoCL would keep every lane's outputs in per-work-item context arrays across it (the
     // copies cost a quarter of this kernel's time, measured).
     if (push_bits == 0 && shadow_bits == 0) return;
     int slot = push_bits ? wp_atomic_add(count_out, popcount(push_bits)) : 0;
     int shadow_slot = shadow_bits ? wp_atomic_add(shadow_count, popcount(shadow_bits)) : 0;
 #pragma unroll
-    for (int l = 0; l < 8; ++l) {
+    for (int l = 0; l < WP_SHADE_LANE_ENTRIES; ++l) {
         if (push_bits & (1 << l)) {
             Ray r;
             r.org = make_float4(nox[l], noy[l], noz[l], 0.0f);

@@ -751,7 +751,7 @@ void check_lanes_match_scalar(const ShadeCase& base, const std::vector<MaterialK
             scalar.max_depth = bounce == 4 ? 4 : 8;  // at the depth limit: emission only
             scalar.seed = 11u + unsigned(bounce);
             ShadeCase lanes = scalar;
-            lanes.config.lanes = render::ShadeLanes::On;
+            lanes.config.lanes = true;
             REQUIRE(lanes.config.shade_lanes());
             REQUIRE_FALSE(scalar.config.shade_lanes());
             const ShadeOut a = run_shade(scalar), b = run_shade(lanes);
@@ -784,31 +784,14 @@ TEST_CASE("shade: eight paths per work-item give shade_surface's bits", "[kernel
         return m;
     });
     check_lanes_match_scalar(base, {MaterialKind::Diffuse, MaterialKind::Mirror, MaterialKind::Glossy});
-    // On: the lane kernel wherever it models the configuration: every material kind, and
-    // none of the appearance features it has no lane code for, no NaN injection. Auto: not
-    // for scenes with glass, conductors or thin dielectrics.
+    // The lane kernel is chosen wherever it models the configuration: every material kind,
+    // and none of the appearance features it has no lane code for, no NaN injection.
     render::KernelConfig k;
     CHECK_FALSE(k.shade_lanes());  // lanes not allowed (a GPU, or --shade-lanes off)
-    k.lanes = render::ShadeLanes::On;
+    k.lanes = true;
     CHECK(k.shade_lanes());  // every kind
     k.normals = true;
     CHECK(k.shade_lanes());
-    {
-        render::KernelConfig a = k;
-        a.lanes = render::ShadeLanes::Auto;
-        CHECK_FALSE(a.shade_lanes());  // every kind: glass among them
-        a.kinds.reset();
-        for (MaterialKind kind : {MaterialKind::Diffuse, MaterialKind::Mirror, MaterialKind::Glossy,
-                                  MaterialKind::RoughConductor, MaterialKind::RoughDielectric,
-                                  MaterialKind::Plastic, MaterialKind::RoughPlastic})
-            a.kinds.set(static_cast<std::size_t>(kind));
-        CHECK(a.shade_lanes());
-        for (MaterialKind kind : {MaterialKind::Glass, MaterialKind::Conductor, MaterialKind::ThinDielectric}) {
-            render::KernelConfig f = a;
-            f.kinds.set(static_cast<std::size_t>(kind));
-            CHECK_FALSE(f.shade_lanes());
-        }
-    }
     for (auto feature : {&render::KernelConfig::textures,
                          &render::KernelConfig::normal_maps, &render::KernelConfig::env,
                          &render::KernelConfig::anisotropic}) {

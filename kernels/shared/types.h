@@ -20,6 +20,14 @@ WP_NAMESPACE_BEGIN
 // share work within a group (shade.cl's queue reservation) size their local arrays by it.
 #define WP_GROUP_SIZE 64
 
+// Queue entries per work-item of the lane shade kernel (shade.cl shade_surface8; the host
+// launches ceil(n / this) work-items): its surface hits are packed and shaded eight lanes at
+// a time, so more entries than lanes let an open scene's misses drop out of the lanes.
+#define WP_SHADE_LANE_ENTRIES 16
+// Its local size (it shares nothing within a group): 8 work-items, 128 queue entries, so the
+// short queues of late bounces still spread over every core.
+#define WP_SHADE_LANE_GROUP 8
+
 // A ray: origin + [tmin, tmax) along an unnormalised direction. 32 bytes.
 typedef struct Ray {
     float4 org;  // xyz: origin (world units); w: tmin, hits need t > tmin

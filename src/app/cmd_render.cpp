@@ -555,7 +555,7 @@ int run_render(RenderArgs a) {
                          {"spp", res.frames}, {"depth", s.depth}, {"seed", s.seed},
                          {"traversal", render::traversal_name(s.traversal)},
                          {"kernels", render::kernel_set_name(s.kernels)},
-                         {"shade_lanes", render::shade_lanes_name(s.shade_lanes)},
+                         {"shade_lanes", s.shade_lanes},
                          {"sampling", render::sampling_name(s.estimator.sampling)},
                          {"glossy", render::glossy_name(s.estimator.glossy)},
                          {"rr_depth", s.estimator.rr_depth},

@@ -79,13 +79,11 @@ void add_config_options(CLI::App* c, ConfigArgs& a) {
                   "measuring what specialisation gains)")
         ->capture_default_str();
     c->add_option("--shade-lanes", a.shade_lanes,
-                  "On a CPU device, shade eight paths per work-item in vector lanes; the same "
-                  "image bit for bit. The lane kernel models any material kind (diffuse, mirror "
-                  "and glossy in lane code, the other kinds' BSDFs one lane at a time) and "
-                  "shading normals, no textures, normal maps, anisotropy or environment. auto: "
-                  "where it models the scene, except scenes with glass, conductor or thin "
-                  "dielectric (where it measured no faster); on: wherever it models the scene; "
-                  "off: one path per work-item always")
+                  "on: on a CPU device, shade eight paths at a time in vector lanes where "
+                  "that kernel models the scene (any material kind: diffuse, mirror and glossy "
+                  "in lane code, the other kinds' BSDFs one lane at a time; shading normals; no "
+                  "textures, normal maps, anisotropy or environment); the same image bit for "
+                  "bit. off: one path per work-item always")
         ->capture_default_str();
     c->add_flag("--adaptive", a.adaptive,
                 "Adaptive sampling: after --min-spp samples, a pixel stops receiving samples "
@@ -167,9 +165,9 @@ render::RenderSettings make_settings(const ConfigArgs& a, const Scene& scene) {
     if (a.kernels != "specialised" && a.kernels != "generic")
         usage_fail("--kernels '{}': expected specialised or generic", a.kernels);
     s.kernels = render::parse_kernel_set(a.kernels);
-    if (a.shade_lanes != "auto" && a.shade_lanes != "on" && a.shade_lanes != "off")
-        usage_fail("--shade-lanes '{}': expected auto, on or off", a.shade_lanes);
-    s.shade_lanes = render::parse_shade_lanes(a.shade_lanes);
+    if (a.shade_lanes != "on" && a.shade_lanes != "off")
+        usage_fail("--shade-lanes '{}': expected on or off", a.shade_lanes);
+    s.shade_lanes = a.shade_lanes == "on";
     if (!(a.adaptive_threshold >= limits::kMinErrorThreshold &&
           a.adaptive_threshold <= limits::kMaxErrorThreshold))
         usage_fail("--adaptive-threshold must be in {:g}..{:g} (got {})", limits::kMinErrorThreshold,

@@ -30,7 +30,7 @@ struct ConfigArgs {
     int rr_depth = render::Estimator{}.rr_depth;  // Russian roulette from this bounce on; -1 off
     long long pool = 0;                   // paths in flight, 0..limits::kMaxPool; 0: automatic
     std::string kernels = "specialised";  // specialised | generic (render::KernelSet)
-    std::string shade_lanes = "auto";     // auto | on | off (render::RenderSettings::shade_lanes)
+    std::string shade_lanes = "on";       // on | off (render::RenderSettings::shade_lanes)
     bool depth_given = false;             // --depth was on the command line (beats the scene's)
     // Adaptive sampling (render/adaptive.h): --adaptive, --adaptive-threshold, --min-spp.
     bool adaptive = false;

@@ -4,9 +4,9 @@
 
 namespace wp::ocl {
 
-Kernel::Kernel(const Program& program, const std::string& entry, std::string label)
+Kernel::Kernel(const Program& program, const std::string& entry, std::string label, std::size_t local)
     : kernel_(program.kernel(entry)), entry_(entry), label_(label.empty() ? entry : std::move(label)),
-      file_(program.file) {
+      file_(program.file), local_(local) {
     arg_count_ = kernel_.getInfo<CL_KERNEL_NUM_ARGS>();
 }
 

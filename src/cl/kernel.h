@@ -85,8 +85,10 @@ class Kernel {
   public:
     Kernel() = default;
     // `entry` is the kernel function in the program; `label` its profiling name
-    // ("intersect.closest"), by default the entry name.
-    Kernel(const Program& program, const std::string& entry, std::string label = "");
+    // ("intersect.closest"), by default the entry name; `local` its local size (kLocalSize,
+    // WP_GROUP_SIZE, unless the kernel shares nothing within a group and wants another).
+    Kernel(const Program& program, const std::string& entry, std::string label = "",
+           std::size_t local = kLocalSize);
 
     const std::string& entry() const { return entry_; }
     const std::string& label() const { return label_; }
@@ -100,7 +102,7 @@ class Kernel {
         check_arg_count(sizeof...(A));
         cl_uint i = 0;
         (set(i++, args), ...);
-        return ocl::launch(*target.queue, kernel_, label_, items, target.profiler);
+        return ocl::launch(*target.queue, kernel_, label_, items, target.profiler, local_);
     }
 
   private:
@@ -117,6 +119,7 @@ class Kernel {
     ::cl::Kernel kernel_;
     std::string entry_, label_, file_;
     cl_uint arg_count_ = 0;
+    std::size_t local_ = kLocalSize;
 };
 
 }  // namespace wp::ocl

@@ -98,11 +98,11 @@ double Profiler::span_ms() const { return span_ms_closed_ + finished(open_).span
 void Profiler::clear() { *this = Profiler(); }
 
 ::cl::Event launch(const ::cl::CommandQueue& queue, const ::cl::Kernel& kernel, const std::string& name,
-                   std::size_t count, Profiler* profiler) {
-    std::size_t global = (count + kLocalSize - 1) / kLocalSize * kLocalSize;
-    if (global == 0) global = kLocalSize;
+                   std::size_t count, Profiler* profiler, std::size_t local) {
+    std::size_t global = (count + local - 1) / local * local;
+    if (global == 0) global = local;
     ::cl::Event ev;
-    queue.enqueueNDRangeKernel(kernel, ::cl::NullRange, ::cl::NDRange(global), ::cl::NDRange(kLocalSize),
+    queue.enqueueNDRangeKernel(kernel, ::cl::NullRange, ::cl::NDRange(global), ::cl::NDRange(local),
                                nullptr, &ev);
     if (profiler) profiler->add(name, ev);
     return ev;

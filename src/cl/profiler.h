@@ -99,8 +99,9 @@ class Profiler {
     std::size_t trace_dropped_ = 0;
 };
 
-// Enqueues `kernel` over `count` work-items (padded to kLocalSize) and records it.
+// Enqueues `kernel` over `count` work-items (padded to the local size `local`, kLocalSize
+// unless the kernel asks for another: Kernel) and records it.
 ::cl::Event launch(const ::cl::CommandQueue& queue, const ::cl::Kernel& kernel, const std::string& name,
-                   std::size_t count, Profiler* profiler = nullptr);
+                   std::size_t count, Profiler* profiler = nullptr, std::size_t local = kLocalSize);
 
 }  // namespace wp::ocl

@@ -44,17 +44,6 @@ KernelSet parse_kernel_set(const std::string& s) {
     fail("--kernels '{}': expected specialised or generic", s);
 }
 
-const char* shade_lanes_name(ShadeLanes l) {
-    return l == ShadeLanes::Off ? "off" : l == ShadeLanes::On ? "on" : "auto";
-}
-
-ShadeLanes parse_shade_lanes(const std::string& s) {
-    if (s == "auto") return ShadeLanes::Auto;
-    if (s == "on") return ShadeLanes::On;
-    if (s == "off") return ShadeLanes::Off;
-    fail("--shade-lanes '{}': expected auto, on or off", s);
-}
-
 KernelConfig KernelConfig::with_every_feature() const {
     KernelConfig c = *this;
     c.kinds.set();
@@ -136,16 +125,7 @@ std::string KernelConfig::shade_options() const {
 bool KernelConfig::shade_lanes() const {
     // Keep in step with the #error list of shade_surface8 (kernels/shade.cl). Every material
     // kind: the kinds without lane code take their scalar BSDF lane by lane there.
-    if (lanes == ShadeLanes::Off || textures || normal_maps || env || anisotropic || inject_nan != 0)
-        return false;
-    // Auto: the Dirac kinds without lane code do little scalar work per path (one sample, no
-    // light sample), so vectorising the rest of their vertex gained nothing while their lanes
-    // added the union of every kind's work: glass and conductor boxes shade 0.96x / 1.01x,
-    // the showcase 1.12x (measured, docs/performance.md).
-    if (lanes == ShadeLanes::Auto &&
-        (has(MaterialKind::Glass) || has(MaterialKind::Conductor) || has(MaterialKind::ThinDielectric)))
-        return false;
-    return true;
+    return lanes && !textures && !normal_maps && !env && !anisotropic && inject_nan == 0;
 }
 
 std::string KernelConfig::trace_options() const {

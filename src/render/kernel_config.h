@@ -64,17 +64,6 @@ const char* kernel_set_name(KernelSet k);  // "specialised" / "generic"
 // Parse "specialised|generic"; throws wp::Error naming --kernels.
 KernelSet parse_kernel_set(const std::string& s);
 
-// --shade-lanes: when shade runs eight paths per work-item (kernels/shade.cl shade_surface8;
-// KernelConfig::shade_lanes()).
-enum class ShadeLanes : int {
-    Off,   // one path per work-item always (shade_surface)
-    Auto,  // where the lane kernel models the scene and pays off there: the default
-    On,    // wherever the lane kernel models the scene
-};
-const char* shade_lanes_name(ShadeLanes l);  // "off" / "auto" / "on"
-// Parse "auto|on|off"; throws wp::Error naming --shade-lanes.
-ShadeLanes parse_shade_lanes(const std::string& s);
-
 struct KernelConfig {
     // The material kinds some material uses (bit i: MaterialKind i), WP_HAVE_<KIND>.
     std::bitset<kMaterialKindCount> kinds = std::bitset<kMaterialKindCount>().set();
@@ -95,9 +84,8 @@ struct KernelConfig {
     // guards get a NaN for every pixel p with p % inject_period == 0; 0 compiles nothing.
     int inject_nan = 0;
     int inject_period = 97;
-    // Lanes allowed (RenderSettings::shade_lanes on a CPU device; Off elsewhere): see
-    // shade_lanes().
-    ShadeLanes lanes = ShadeLanes::Off;
+    // Lanes allowed (RenderSettings::shade_lanes on a CPU device): see shade_lanes().
+    bool lanes = false;
 
     bool has(MaterialKind k) const { return kinds.test(static_cast<std::size_t>(k)); }
     // Light sampling is compiled only when something emits (a triangle or the environment)
@@ -123,13 +111,11 @@ struct KernelConfig {
     std::string accumulate_options() const;  // injection
     std::string trace_options() const;       // intersect and shadow: alpha cut-outs
     std::string aov_options() const;         // aov (render/aov.h): normals, textures, normal maps
-    // Shade runs shade_surface8, eight paths per work-item (kernels/shared/lanes.h): lanes
+    // Shade runs shade_surface8, eight paths at a time in vector lanes (kernels/shared/lanes.h): lanes
     // are allowed and the lane kernel models the configuration — every material kind (lane
     // code for diffuse, mirror and glossy; the others' scalar BSDF lane by lane), shading
-    // normals, no other appearance feature, no NaN injection. With ShadeLanes::Auto also not
-    // for scenes with a Dirac kind that has no lane code (glass, conductor, thin dielectric):
-    // there the lane kernel measured no gain (docs/performance.md, "Sixth round"). Adds
-    // -D WP_SHADE_LANES=1 to shade_options().
+    // normals, no other appearance feature, no NaN injection. Adds -D WP_SHADE_LANES=1 to
+    // shade_options().
     bool shade_lanes() const;
     // Some material kind the scene has is specular in every event (material_kinds.h).
     bool any_specular() const;

@@ -57,7 +57,7 @@ KernelConfig make_config(const ocl::Device& dev, const Scene& scene, const Rende
     KernelConfig c = KernelConfig::from_scene(scene, s.estimator);
     if (s.kernels == KernelSet::Generic) c = c.with_every_feature();
     // Eight paths per work-item suit a CPU's vector units; a GPU wants one per thread.
-    c.lanes = dev.info.type == "CPU" ? s.shade_lanes : ShadeLanes::Off;
+    c.lanes = s.shade_lanes && dev.info.type == "CPU";
     c.replicates = s.replicates;
     c.inject_nan = s.inject_nan;
     c.inject_period = s.inject_period;

@@ -77,10 +77,9 @@ struct RenderSettings {
     // --kernels: the scene-specialised programs (the default) or the generic build with
     // every feature switch on (KernelConfig::with_every_feature()).
     KernelSet kernels = KernelSet::Specialised;
-    // Shade eight paths per work-item (kernels/shade.cl shade_surface8) on CPU devices: where
-    // that kernel models the scene and pays off (Auto), wherever it models it (On), never
-    // (Off). See KernelConfig::shade_lanes.
-    ShadeLanes shade_lanes = ShadeLanes::Auto;
+    // Shade eight paths per work-item (kernels/shade.cl shade_surface8) on CPU devices where
+    // that kernel models the scene (KernelConfig::shade_lanes); off: shade_surface always.
+    bool shade_lanes = true;
     // Debug (render --debug-nan): see KernelConfig::inject_nan.
     int inject_nan = 0;
     int inject_period = 97;

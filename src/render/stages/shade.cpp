@@ -6,7 +6,8 @@ ShadeStage::ShadeStage(const ocl::Device& dev, const KernelConfig& config, ocl::
     : target_{&dev.queue, profiler},
       program_(ocl::Program::build(dev, "shade.cl", config.shade_options())),
       lanes_(config.shade_lanes()),
-      kernel_(program_, lanes_ ? "shade_surface8" : "shade_surface", "shade"),
+      kernel_(program_, lanes_ ? "shade_surface8" : "shade_surface", "shade",
+              lanes_ ? WP_SHADE_LANE_GROUP : ocl::kLocalSize),
       frames_(program_, "shade_triangle_frames", "shade.frames") {}
 
 void ShadeStage::prepare(const ShadingScene& scene) {
@@ -20,8 +21,8 @@ void ShadeStage::prepare(const ShadingScene& scene) {
                                 int max_depth, const ocl::Array<float4>& radiance,
                                 const ocl::Array<int>& counters, const PathQueue& out,
                                 const ShadowQueue& shadow) {
-    // shade_surface8: one work-item per eight queue entries.
-    return kernel_.launch(target_, lanes_ ? (launch + 7) / 8 : launch, in.rays, in.paths, in.count, hits, scene.tris,
+    // shade_surface8: one work-item per WP_SHADE_LANE_ENTRIES queue entries.
+    return kernel_.launch(target_, lanes_ ? (launch + WP_SHADE_LANE_ENTRIES - 1) / WP_SHADE_LANE_ENTRIES : launch, in.rays, in.paths, in.count, hits, scene.tris,
                           scene.tri_frames, scene.material_ids, scene.materials,
                           scene.material_tables, scene.background, scene.light_cdf,
                           scene.light_guide, cl_int(scene.light_guide_size), scene.light_prims,
