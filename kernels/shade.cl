@@ -584,6 +584,9 @@ WP_KERNEL void shade_triangle_frames(WP_GLOBAL const Triangle* tris, int count,
 #if WP_HAVE_TEXTURES || WP_HAVE_NORMAL_MAPS || WP_HAVE_ENV || WP_HAVE_ANISOTROPY || WP_INJECT_NAN
 #error "shade_surface8 models shading normals and no other appearance feature (KernelConfig::shade_lanes)"
 #endif
+#if WP_SHADE_LANE_ENTRIES % 8 != 0 || WP_SHADE_LANE_ENTRIES > 32
+#error "WP_SHADE_LANE_ENTRIES (types.h) must be a multiple of 8 and at most 32 (the bits of push_bits)"
+#endif
 // Kinds without lane code: their lanes take the scalar BSDF (WP_LANES_SCALAR_KINDS).
 #define WP_LANES_SCALAR_KINDS                                                             \
     (WP_HAVE_GLASS || WP_HAVE_CONDUCTOR || WP_HAVE_ROUGH_CONDUCTOR || WP_HAVE_ROUGH_DIELECTRIC || \
@@ -697,7 +700,7 @@ WP_KERNEL void shade_surface8(WP_SHADE_SURFACE_PARAMS) {
     float sdx[WP_SHADE_LANE_ENTRIES], sdy[WP_SHADE_LANE_ENTRIES], sdz[WP_SHADE_LANE_ENTRIES];
     float stm[WP_SHADE_LANE_ENTRIES];
     float scx[WP_SHADE_LANE_ENTRIES], scy[WP_SHADE_LANE_ENTRIES], scz[WP_SHADE_LANE_ENTRIES];
-    int push_bits = 0, shadow_bits = 0;
+    uint push_bits = 0, shadow_bits = 0;  // bit e: packed lane e pushes (WP_SHADE_LANE_ENTRIES <= 32)
 
     // The work-item's queue entries one at a time: the entry guard and the escaped rays
     // (shade_surface's own code: a path whose throughput is not finite ends, counted; a miss
@@ -955,7 +958,7 @@ WP_KERNEL void shade_surface8(WP_SHADE_SURFACE_PARAMS) {
                     const L3 so = l3_select(org_below, org, l3_dot(wi, ng) > 0.0f);
                     const L3 sd = l3_sub(y, so);
                     const float8 tmax = wp_shadow_tmax8(sd, yerr, ln, vload8(0, loff));
-                    shadow_bits |= wp_lane_bits(shadow) << g;
+                    shadow_bits |= (uint)wp_lane_bits(shadow) << g;
                     vstore8(so.x, 0, sox + g), vstore8(so.y, 0, soy + g), vstore8(so.z, 0, soz + g);
                     vstore8(sd.x, 0, sdx + g), vstore8(sd.y, 0, sdy + g), vstore8(sd.z, 0, sdz + g);
                     vstore8(tmax, 0, stm + g);
@@ -1031,7 +1034,7 @@ WP_KERNEL void shade_surface8(WP_SHADE_SURFACE_PARAMS) {
             // The continued path, from the origin on the geometric side it leaves; w: the
             // density of wo, 0 after a Dirac lobe (PathState).
             const L3 on = l3_select(org_below, org, l3_dot(wo, ng) > 0.0f);
-            push_bits |= wp_lane_bits(alive) << g;
+            push_bits |= (uint)wp_lane_bits(alive) << g;
             vstore8(on.x, 0, nox + g), vstore8(on.y, 0, noy + g), vstore8(on.z, 0, noz + g);
             vstore8(wo.x, 0, ndx + g), vstore8(wo.y, 0, ndy + g), vstore8(wo.z, 0, ndz + g);
             vstore8(beta.x, 0, nbx + g), vstore8(beta.y, 0, nby + g), vstore8(beta.z, 0, nbz + g);
@@ -1047,7 +1050,7 @@ WP_KERNEL void shade_surface8(WP_SHADE_SURFACE_PARAMS) {
     int shadow_slot = shadow_bits ? wp_atomic_add(shadow_count, popcount(shadow_bits)) : 0;
 #pragma unroll
     for (int l = 0; l < WP_SHADE_LANE_ENTRIES; ++l) {
-        if (push_bits & (1 << l)) {
+        if (push_bits & (1u << l)) {
             Ray r;
             r.org = make_float4(nox[l], noy[l], noz[l], 0.0f);
             r.dir = make_float4(ndx[l], ndy[l], ndz[l], FLT_MAX);
@@ -1057,7 +1060,7 @@ WP_KERNEL void shade_surface8(WP_SHADE_SURFACE_PARAMS) {
             paths_out[slot] = np;
             ++slot;
         }
-        if (shadow_bits & (1 << l)) {
+        if (shadow_bits & (1u << l)) {
             Ray r;
             r.org = make_float4(sox[l], soy[l], soz[l], 0.0f);
             r.dir = make_float4(sdx[l], sdy[l], sdz[l], stm[l]);

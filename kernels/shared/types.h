@@ -23,10 +23,10 @@ WP_NAMESPACE_BEGIN
 // Queue entries per work-item of the lane shade kernel (shade.cl shade_surface8; the host
 // launches ceil(n / this) work-items): its surface hits are packed and shaded eight lanes at
 // a time, so more entries than lanes let an open scene's misses drop out of the lanes.
-#define WP_SHADE_LANE_ENTRIES 16
-// Its local size (it shares nothing within a group): 8 work-items, 128 queue entries, so the
+#define WP_SHADE_LANE_ENTRIES 32
+// Its local size (it shares nothing within a group): 4 work-items, 128 queue entries, so the
 // short queues of late bounces still spread over every core.
-#define WP_SHADE_LANE_GROUP 8
+#define WP_SHADE_LANE_GROUP 4
 
 // A ray: origin + [tmin, tmax) along an unnormalised direction. 32 bytes.
 typedef struct Ray {
