@@ -1048,7 +1048,6 @@ WP_KERNEL void shade_surface8(WP_SHADE_SURFACE_PARAMS) {
     if (push_bits == 0 && shadow_bits == 0) return;
     int slot = push_bits ? wp_atomic_add(count_out, popcount(push_bits)) : 0;
     int shadow_slot = shadow_bits ? wp_atomic_add(shadow_count, popcount(shadow_bits)) : 0;
-#pragma unroll
     for (int l = 0; l < WP_SHADE_LANE_ENTRIES; ++l) {
         if (push_bits & (1u << l)) {
             Ray r;
