@@ -572,10 +572,11 @@ WP_KERNEL void shade_triangle_frames(WP_GLOBAL const Triangle* tris, int count,
 
 #if WP_SHADE_LANES
 // ---------------------------------------------------------------------------------------
-// shade_surface8 — shade_surface for eight paths per work-item (shared/lanes.h explains
-// why: PoCL runs shade_surface one path at a time). Same arguments, same contract and the
-// same numbers per path; the host launches it with one work-item per eight queue entries
-// (work-item w: entries 8 w .. 8 w + 7) where KernelConfig::shade_lanes() says it models
+// shade_surface8 — shade_surface eight paths at a time in vector lanes (shared/lanes.h
+// explains why: PoCL runs shade_surface one path at a time). Same arguments, same contract
+// and the same numbers per path; the host launches it with one work-item per
+// WP_SHADE_LANE_ENTRIES queue entries (types.h; work-item w: entries 32 w .. 32 w + 31) and
+// local size WP_SHADE_LANE_GROUP where KernelConfig::shade_lanes() says it models
 // the scene: the features and debug switches it has no lane code for are refused here at
 // compile time. Diffuse, mirror and glossy lanes run lane code (lanes.h); the lanes of every
 // other kind call that kind's scalar sample and eval (bsdf.h) one lane at a time, inside

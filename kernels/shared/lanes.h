@@ -3,8 +3,8 @@
 // PoCL turns a work-group into a loop over its work-items and vectorises that loop only when
 // its body holds no vector-typed instruction; every float3 of the scalar shading code is one,
 // so shade_surface runs one path at a time (docs/performance.md, "Third round"). The lane
-// kernel (shade.cl, shade_surface8) spells the vector width out instead: each work-item
-// shades eight paths, every per-path value a float8 (lane l = path l), every 3-vector an L3
+// kernel (shade.cl, shade_surface8) spells the vector width out instead: a work-item shades
+// its paths eight at a time, every per-path value a float8 (lane l = path l), every 3-vector an L3
 // of three float8, decisions as int8 masks (-1 true, 0 false: OpenCL's vector relational
 // results, which select() reads by their sign bit).
 //
