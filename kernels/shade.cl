@@ -756,7 +756,7 @@ WP_KERNEL void shade_surface8(WP_SHADE_SURFACE_PARAMS) {
         const int8 arrived_specular = bounce > 0 ? thr_w == 0.0f : (int8)(0);
         int8 alive = vload8(0, valid_a);  // finite throughput, a surface hit (packed above)
 
-        // Surface: the triangle, its frame and material (misses read triangle 0, unused).
+        // Surface: the triangle, its frame and material (every packed lane is a hit).
         float v0x[8], v0y[8], v0z[8], v1x[8], v1y[8], v1z[8], v2x[8], v2y[8], v2z[8];
         float nx[8], ny[8], nz[8], toff[8], ax[8], ay[8], az[8], ex[8], ey[8], ez[8], pa[8];
         float alpha_a[8];
@@ -766,7 +766,7 @@ WP_KERNEL void shade_surface8(WP_SHADE_SURFACE_PARAMS) {
 #endif
 #pragma unroll
         for (int l = 0; l < 8; ++l) {
-            int t = max(prim_a[l], 0);
+            int t = prim_a[l];
             Triangle tri = tris[t];
             float4 f = tri_frames[t];
             int mid = material_ids[t];
@@ -851,7 +851,7 @@ WP_KERNEL void shade_surface8(WP_SHADE_SURFACE_PARAMS) {
                 float n0x[8], n0y[8], n0z[8], n1x[8], n1y[8], n1z[8], n2x[8], n2y[8], n2z[8];
 #pragma unroll
                 for (int l = 0; l < 8; ++l) {
-                    TriNormals tn = tri_normals[max(prim_a[l], 0)];
+                    TriNormals tn = tri_normals[prim_a[l]];
                     n0x[l] = tn.n0.x, n0y[l] = tn.n0.y, n0z[l] = tn.n0.z;
                     n1x[l] = tn.n1.x, n1y[l] = tn.n1.y, n1z[l] = tn.n1.z;
                     n2x[l] = tn.n2.x, n2y[l] = tn.n2.y, n2z[l] = tn.n2.z;
@@ -1043,9 +1043,9 @@ WP_KERNEL void shade_surface8(WP_SHADE_SURFACE_PARAMS) {
         }
     }
 
-    // One global atomic per work-item and queue (per WP_SHADE_LANE_ENTRIES paths). No work-group barrier:
-    // PoCL would keep every lane's outputs in per-work-item context arrays across it (the
-    // copies cost a quarter of this kernel's time, measured).
+    // One global atomic per work-item and queue (per WP_SHADE_LANE_ENTRIES paths). No
+    // work-group barrier: PoCL would keep every lane's outputs in per-work-item context arrays
+    // across it (the copies cost a quarter of this kernel's time, measured).
     if (push_bits == 0 && shadow_bits == 0) return;
     int slot = push_bits ? wp_atomic_add(count_out, popcount(push_bits)) : 0;
     int shadow_slot = shadow_bits ? wp_atomic_add(shadow_count, popcount(shadow_bits)) : 0;

@@ -111,8 +111,8 @@ struct KernelConfig {
     std::string accumulate_options() const;  // injection
     std::string trace_options() const;       // intersect and shadow: alpha cut-outs
     std::string aov_options() const;         // aov (render/aov.h): normals, textures, normal maps
-    // Shade runs shade_surface8, eight paths at a time in vector lanes (kernels/shared/lanes.h): lanes
-    // are allowed and the lane kernel models the configuration — every material kind (lane
+    // Shade runs shade_surface8, eight paths at a time in vector lanes (kernels/shared/
+    // lanes.h): lanes are allowed and the lane kernel models the configuration — every kind (lane
     // code for diffuse, mirror and glossy; the others' scalar BSDF lane by lane), shading
     // normals, no other appearance feature, no NaN injection. Adds -D WP_SHADE_LANES=1 to
     // shade_options().

@@ -77,7 +77,7 @@ struct RenderSettings {
     // --kernels: the scene-specialised programs (the default) or the generic build with
     // every feature switch on (KernelConfig::with_every_feature()).
     KernelSet kernels = KernelSet::Specialised;
-    // Shade eight paths per work-item (kernels/shade.cl shade_surface8) on CPU devices where
+    // Shade eight paths at a time (kernels/shade.cl shade_surface8) on CPU devices where
     // that kernel models the scene (KernelConfig::shade_lanes); off: shade_surface always.
     bool shade_lanes = true;
     // Debug (render --debug-nan): see KernelConfig::inject_nan.

@@ -22,7 +22,8 @@ void ShadeStage::prepare(const ShadingScene& scene) {
                                 const ocl::Array<int>& counters, const PathQueue& out,
                                 const ShadowQueue& shadow) {
     // shade_surface8: one work-item per WP_SHADE_LANE_ENTRIES queue entries.
-    return kernel_.launch(target_, lanes_ ? (launch + WP_SHADE_LANE_ENTRIES - 1) / WP_SHADE_LANE_ENTRIES : launch, in.rays, in.paths, in.count, hits, scene.tris,
+    const std::size_t items = lanes_ ? (launch + WP_SHADE_LANE_ENTRIES - 1) / WP_SHADE_LANE_ENTRIES : launch;
+    return kernel_.launch(target_, items, in.rays, in.paths, in.count, hits, scene.tris,
                           scene.tri_frames, scene.material_ids, scene.materials,
                           scene.material_tables, scene.background, scene.light_cdf,
                           scene.light_guide, cl_int(scene.light_guide_size), scene.light_prims,
