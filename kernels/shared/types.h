@@ -171,6 +171,7 @@ typedef struct TraceStats {
     X(__builtin_offsetof(PathState, cone))                                               \
     X(sizeof(FilmPixel))                          \
     X(__builtin_offsetof(FilmPixel, comp))                                                \
+    X(sizeof(LightPair)) X(__builtin_offsetof(LightPair, pdf))                            \
     /* Appearance types */                                                                \
     X(sizeof(TriNormals)) X(__builtin_offsetof(TriNormals, n2))                           \
     X(sizeof(TriUVs)) X(__builtin_offsetof(TriUVs, uv2))                                  \
@@ -320,6 +321,14 @@ typedef struct EnvData {
     int pad1;          // 0
 } EnvData;
 
+// A light triangle's back-to-back partner (scene/light_pairs.h, kernels/shared/lights.h),
+// per triangle in scene order; read only by kernels built with WP_HAVE_LIGHT_PAIRS. 8 bytes.
+typedef struct LightPair {
+    int partner;  // the paired light triangle (scene order); -1: none
+    float pdf;    // P(choose partner) / area of this triangle: the density per unit area that
+                  // the partner's samples add here when they move over (0 without a partner)
+} LightPair;
+
 // One path in flight, stored in a queue slot next to its ray. 32 bytes. Its results go to
 // the radiance slot of its sample (`item`), never to the queue slot, so the image does not
 // depend on the order in which paths were pushed. Every path of a queue is at the same
@@ -386,6 +395,7 @@ static_assert(sizeof(wp::MaterialData) == 112 && offsetof(wp::MaterialData, kind
               offsetof(wp::MaterialData, ior) == 36 && offsetof(wp::MaterialData, alpha) == 40 &&
               offsetof(wp::MaterialData, specular) == 48 && offsetof(wp::MaterialData, k) == 80 &&
               offsetof(wp::MaterialData, flags) == 96 && offsetof(wp::MaterialData, table) == 100);
+static_assert(sizeof(wp::LightPair) == 8 && offsetof(wp::LightPair, pdf) == 4);
 static_assert(sizeof(wp::PathState) == 32 && offsetof(wp::PathState, pixel) == 16 &&
               offsetof(wp::PathState, sample) == 20 && offsetof(wp::PathState, item) == 24 &&
               offsetof(wp::PathState, cone) == 28);

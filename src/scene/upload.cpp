@@ -4,6 +4,7 @@
 
 #include <glm/geometric.hpp>
 
+#include "scene/light_pairs.h"
 #include "scene/material_tables.h"
 #include "scene/normals.h"
 #include "shared/lights.h"
@@ -183,18 +184,17 @@ std::vector<int> build_cdf_guide(const std::vector<float>& cdf) {
     return guide;
 }
 
-LightTable build_light_table(const Scene& scene) {
+LightTable build_light_table(const Scene& scene, bool pairs, const std::vector<int>* partners) {
     LightTable lt;
     lt.pdf_area.assign(scene.triangles.size(), 0.0f);
     std::vector<double> power, area;
     for (std::size_t i = 0; i < scene.triangles.size(); ++i) {
-        const Material& m = scene.materials.at(scene.material_ids.at(i));
-        if (!m.emissive()) continue;
+        if (!is_light_triangle(scene, i)) continue;
+        const Material& m = scene.materials[scene.material_ids[i]];
         const glm::uvec3& t = scene.triangles[i];
-        glm::dvec3 a(scene.positions.at(t.x)), b(scene.positions.at(t.y)), c(scene.positions.at(t.z));
+        glm::dvec3 a(scene.positions[t.x]), b(scene.positions[t.y]), c(scene.positions[t.z]);
         double ar = 0.5 * glm::length(glm::cross(b - a, c - a));
         double lum = 0.2126 * m.emission.x + 0.7152 * m.emission.y + 0.0722 * m.emission.z;
-        if (!(ar > 0.0) || !(lum > 0.0) || !std::isfinite(ar * lum)) continue;
         lt.prims.push_back(static_cast<int>(i));
         power.push_back(ar * lum);
         area.push_back(ar);
@@ -209,6 +209,22 @@ LightTable build_light_table(const Scene& scene) {
     for (std::size_t k = 0; k < lt.prims.size(); ++k) {
         float p = lt.cdf[k] - (k > 0 ? lt.cdf[k - 1] : 0.0f);
         lt.pdf_area[lt.prims[k]] = static_cast<float>(p / area[k]);
+    }
+    if (pairs) {
+        const std::vector<int> found = partners ? std::vector<int>() : find_light_partners(scene);
+        const std::vector<int>& partner = partners ? *partners : found;
+        if (partner.size() != scene.triangles.size())
+            fail("scene '{}': {} light partners for {} triangles", scene.name, partner.size(), scene.triangles.size());
+        std::vector<double> chance(scene.triangles.size(), 0.0), tri_area(scene.triangles.size(), 0.0);
+        for (std::size_t k = 0; k < lt.prims.size(); ++k) {
+            chance[lt.prims[k]] = lt.cdf[k] - (k > 0 ? lt.cdf[k - 1] : 0.0f);
+            tri_area[lt.prims[k]] = area[k];
+        }
+        for (std::size_t i = 0; i < partner.size(); ++i) {
+            if (partner[i] < 0) continue;
+            if (lt.pairs.empty()) lt.pairs.assign(scene.triangles.size(), LightPair{-1, 0.0f});
+            lt.pairs[i] = {partner[i], static_cast<float>(chance[partner[i]] / tri_area[i])};
+        }
     }
     return lt;
 }

@@ -34,6 +34,9 @@ struct LightTable {
     std::vector<int> guide;       // build_cdf_guide(cdf) from WP_LIGHT_GUIDE_MIN lights on, else empty
     std::vector<int> prims;       // triangle (scene order) of each light
     std::vector<float> pdf_area;  // per scene triangle: P(choose it) / its area; 0 if no light
+    // Per scene triangle, when asked for and some light triangle has a partner
+    // (scene/light_pairs.h): its partner and P(choose partner) / its area; else empty.
+    std::vector<LightPair> pairs;
     double total_power = 0.0;     // sum of area × luminance, for reports
     std::size_t size() const { return prims.size(); }
 };
@@ -69,7 +72,9 @@ std::vector<int> build_cdf_guide(const std::vector<float>& cdf);
 
 // Empty (no lights) when nothing emits. The probability of light k is taken as the float
 // difference cdf[k] - cdf[k - 1], which is exactly what the device's binary search draws.
-LightTable build_light_table(const Scene& scene);
+// With `pairs`, also the back-to-back pairs (LightTable::pairs) of find_light_partners, or of
+// `partners` when given (its result for this scene, found earlier).
+LightTable build_light_table(const Scene& scene, bool pairs = false, const std::vector<int>* partners = nullptr);
 
 // Throws wp::Error when a triangle's material id or vertex index is out of range.
 SceneUpload upload_scene(const Scene& scene);
