@@ -79,6 +79,7 @@ typedef struct LightTable {
     WP_GLOBAL const int* guide;  // guide_size + 1 entries (wp_light_pick)
     WP_GLOBAL const int* prims;
     WP_GLOBAL const float* pdf_area;
+    WP_GLOBAL const LightPair* pairs;  // with WP_HAVE_LIGHT_PAIRS (lights.h)
     int count;
     int guide_size;
 } LightTable;
@@ -245,7 +246,12 @@ WP_FN int wp_shade_path(Ray ray, PathState path, Hit hit, WP_GLOBAL const Triang
     if (front && wp_max_component(wp_xyz(m.emission)) > 0.0f) {
         float w = 1.0f;
 #if WP_HAVE_NEE
-        float pdf_area = lights.pdf_area[hit.prim] * (1.0f - wp_env_choice(lights.count, app.env.data));
+        // The previous vertex sees this point from the ray's origin (lights.h).
+        float pdf_area = (bounce > 0 && !arrived_specular
+                              ? wp_light_pdf_area(lights.pdf_area, lights.pairs, tris, tri_frames, hit.prim,
+                                                  wp_xyz(ray.org))
+                              : lights.pdf_area[hit.prim]) *
+                         (1.0f - wp_env_choice(lights.count, app.env.data));
         if (bounce > 0 && !arrived_specular && pdf_area > 0.0f) {
 #if WP_SAMPLING == WP_SAMPLING_MIS
             // Light density of this direction over solid angle at the previous vertex.
@@ -343,6 +349,10 @@ WP_FN int wp_shade_path(Ray ray, PathState path, Hit hit, WP_GLOBAL const Triang
         {
             int li = wp_light_pick(lights.cdf, lights.count, lights.guide, lights.guide_size, ul.z);
             lp = lights.prims[li];
+#if WP_HAVE_LIGHT_PAIRS
+            // A triangle facing away gives its sample to its partner (lights.h).
+            lp = wp_light_pair_choose(tris, tri_frames, lights.pairs, lp, org);
+#endif
             Triangle lt = tris[lp];
             l0 = wp_xyz(lt.v0), l1 = wp_xyz(lt.v1), l2 = wp_xyz(lt.v2);
             const float4 lframe = tri_frames[lp];
@@ -353,7 +363,9 @@ WP_FN int wp_shade_path(Ray ray, PathState path, Hit hit, WP_GLOBAL const Triang
             float3 to = y - p;
             float dist2 = dot(to, to);
             wi = to * (1.0f / sqrt(dist2));
-            p_light = wp_light_pdf_solid_angle(lights.pdf_area[lp] * (1.0f - p_env), dist2, -dot(wi, ln));
+            p_light = wp_light_pdf_solid_angle(
+                wp_light_pdf_area(lights.pdf_area, lights.pairs, tris, tri_frames, lp, org) * (1.0f - p_env),
+                dist2, -dot(wi, ln));
 #if WP_HAVE_TEXTURES
             lbl = bl;
 #endif
@@ -468,7 +480,8 @@ WP_FN int wp_shade_path(Ray ray, PathState path, Hit hit, WP_GLOBAL const Triang
     WP_GLOBAL const float* material_tables, float4 background, \
     WP_GLOBAL const float* light_cdf, WP_GLOBAL const int* light_guide, \
     int light_guide_size, WP_GLOBAL const int* light_prims, \
-    WP_GLOBAL const float* light_pdf_area, int light_count, \
+    WP_GLOBAL const float* light_pdf_area, WP_GLOBAL const LightPair* light_pairs, \
+    int light_count, \
     WP_GLOBAL const TriNormals* tri_normals, WP_GLOBAL const TriUVs* tri_uvs, \
     WP_GLOBAL const TriTangents* tri_tangents, \
     WP_GLOBAL const MaterialTextures* material_textures, \
@@ -502,6 +515,7 @@ WP_KERNEL void shade_surface(WP_SHADE_SURFACE_PARAMS) {
     lights.guide_size = light_guide_size;
     lights.prims = light_prims;
     lights.pdf_area = light_pdf_area;
+    lights.pairs = light_pairs;
     lights.count = light_count;
     Appearance app;
     app.normals = tri_normals;
@@ -685,7 +699,7 @@ WP_FN int8 wp_scalar_sample8(WP_GLOBAL const MaterialData* materials, WP_GLOBAL 
 WP_KERNEL void shade_surface8(WP_SHADE_SURFACE_PARAMS) {
     (void)material_tables, (void)tri_normals, (void)tri_uvs, (void)tri_tangents;
     (void)material_textures, (void)textures, (void)texture_views, (void)texels8, (void)texelsf;
-    (void)env_texels, (void)env_marginal, (void)env_conditional, (void)env_distance;
+    (void)env_texels, (void)env_marginal, (void)env_conditional, (void)env_distance, (void)light_pairs;
     (void)cone_spread;
     const int base = WP_SHADE_LANE_ENTRIES * wp_global_id();
     const int count = count_in[0];
@@ -729,6 +743,9 @@ WP_KERNEL void shade_surface8(WP_SHADE_SURFACE_PARAMS) {
         // Gather the lanes' queue entries (lanes past the packed hits repeat the last one
         // and stay inactive).
         float dx[8], dy[8], dz[8], tx[8], ty[8], tz[8], tw[8], ht[8], hu[8], hv[8];
+#if WP_HAVE_NEE && WP_HAVE_LIGHT_PAIRS
+        float rox[8], roy[8], roz[8];  // the rays' origins: the previous vertices (light pairs)
+#endif
         int prim_a[8], valid_a[8];
         uint pixel_a[8], sample_a[8];
 #pragma unroll
@@ -743,6 +760,9 @@ WP_KERNEL void shade_surface8(WP_SHADE_SURFACE_PARAMS) {
             pixel_a[l] = (uint)p.pixel;
             sample_a[l] = p.sample;
             dx[l] = r.dir.x, dy[l] = r.dir.y, dz[l] = r.dir.z;
+#if WP_HAVE_NEE && WP_HAVE_LIGHT_PAIRS
+            rox[l] = r.org.x, roy[l] = r.org.y, roz[l] = r.org.z;
+#endif
             tx[l] = p.throughput.x, ty[l] = p.throughput.y, tz[l] = p.throughput.z;
             tw[l] = p.throughput.w;
             ht[l] = h.t, hu[l] = h.u, hv[l] = h.v;
@@ -783,7 +803,14 @@ WP_KERNEL void shade_surface8(WP_SHADE_SURFACE_PARAMS) {
             nx[l] = f.x, ny[l] = f.y, nz[l] = f.z, toff[l] = f.w;
             ax[l] = alb.x, ay[l] = alb.y, az[l] = alb.z;
             ex[l] = em.x, ey[l] = em.y, ez[l] = em.z;
-#if WP_HAVE_NEE
+#if WP_HAVE_NEE && WP_HAVE_LIGHT_PAIRS
+            // As shade_surface: a light's density seen from the previous vertex, where MIS
+            // weighs it (bounce > 0, not after a Dirac lobe).
+            pa[l] = light_pdf_area[t];
+            if (pa[l] > 0.0f && bounce > 0 && tw[l] != 0.0f)
+                pa[l] = wp_light_pdf_area(light_pdf_area, light_pairs, tris, tri_frames, t,
+                                          make_float3(rox[l], roy[l], roz[l]));
+#elif WP_HAVE_NEE
             pa[l] = light_pdf_area[t];
 #else
             pa[l] = 0.0f;
@@ -886,10 +913,19 @@ WP_KERNEL void shade_surface8(WP_SHADE_SURFACE_PARAMS) {
                 // Lanes without a light sample (Dirac kinds, dead paths) read light 0: no
                 // search of the table, no miss on a random light triangle.
                 const int sampled_bits = wp_lane_bits(sampled);
+#if WP_HAVE_LIGHT_PAIRS
+                float orx[8], ory[8], orz[8];
+                vstore8(org.x, 0, orx), vstore8(org.y, 0, ory), vstore8(org.z, 0, orz);
+#endif
 #pragma unroll
                 for (int l = 0; l < 8; ++l) {
                     int li = (sampled_bits >> l) & 1 ? wp_light_pick(light_cdf, light_count, light_guide, light_guide_size, ulz_a[l]) : 0;
                     int lp = light_prims[li];
+#if WP_HAVE_LIGHT_PAIRS
+                    // shade_surface's pair choice and density, from the same origin.
+                    const float3 x = make_float3(orx[l], ory[l], orz[l]);
+                    if ((sampled_bits >> l) & 1) lp = wp_light_pair_choose(tris, tri_frames, light_pairs, lp, x);
+#endif
                     Triangle lt = tris[lp];
                     float4 lf = tri_frames[lp];
                     float4 le = materials[material_ids[lp]].emission;
@@ -897,7 +933,13 @@ WP_KERNEL void shade_surface8(WP_SHADE_SURFACE_PARAMS) {
                     l1x[l] = lt.v1.x, l1y[l] = lt.v1.y, l1z[l] = lt.v1.z;
                     l2x[l] = lt.v2.x, l2y[l] = lt.v2.y, l2z[l] = lt.v2.z;
                     lnx[l] = lf.x, lny[l] = lf.y, lnz[l] = lf.z, loff[l] = lf.w;
+#if WP_HAVE_LIGHT_PAIRS
+                    lpa[l] = (sampled_bits >> l) & 1
+                                 ? wp_light_pdf_area(light_pdf_area, light_pairs, tris, tri_frames, lp, x)
+                                 : light_pdf_area[lp];
+#else
                     lpa[l] = light_pdf_area[lp];
+#endif
                     lex[l] = le.x, ley[l] = le.y, lez[l] = le.z;
                 }
                 const L3 ln = l3(vload8(0, lnx), vload8(0, lny), vload8(0, lnz));

@@ -149,6 +149,8 @@ TEST_CASE("generic kernels: every switch a stage reads is on", "[unit][kernels]"
     CHECK_FALSE(spec.textures);
     CHECK_FALSE(spec.env);
     CHECK_FALSE(spec.lens);
+    CHECK_FALSE(spec.light_pairs);  // its light is a quad: no back-to-back triangles
+    CHECK(gen.sample_pairs());
     CHECK(render::parse_kernel_set("generic") == render::KernelSet::Generic);
     CHECK(render::parse_kernel_set("specialised") == render::KernelSet::Specialised);
     CHECK_THROWS_AS(render::parse_kernel_set("specialized"), Error);

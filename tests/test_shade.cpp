@@ -12,6 +12,7 @@
 #include <cstring>
 #include <functional>
 #include <map>
+#include <optional>
 #include <string>
 #include <numeric>
 #include <random>
@@ -54,6 +55,8 @@ struct ShadeCase {
     std::vector<float> light_cdf;
     std::vector<int> light_prims;
     std::vector<float> light_pdf_area;
+    // Back-to-back light pairs per triangle (configs with light_pairs on); empty: none uploaded.
+    std::vector<LightPair> light_pairs;
     // Per-triangle shading normals (configs with normals on); empty: none uploaded.
     std::vector<TriNormals> normals;
     // The material tables (MaterialData.table: rough plastics); empty: none uploaded.
@@ -106,6 +109,7 @@ ShadeOut run_shade(const ShadeCase& c) {
     scene.light_prims = ocl::Array<int>::upload(dev, c.light_prims, "light prims");
     scene.light_pdf_area = ocl::Array<float>::upload(dev, c.light_pdf_area, "light pdf");
     scene.light_count = static_cast<int>(c.light_prims.size());
+    if (!c.light_pairs.empty()) scene.light_pairs = ocl::Array<LightPair>::upload(dev, c.light_pairs, "light pairs");
     if (!c.normals.empty()) scene.tri_normals = ocl::Array<TriNormals>::upload(dev, c.normals, "normals");
     if (!c.tables.empty()) scene.material_tables = ocl::Array<float>::upload(dev, c.tables, "material tables");
     render::ShadowQueue shadow;
@@ -706,6 +710,15 @@ ShadeCase random_lane_case(std::mt19937& rng, const std::function<MaterialData(i
         const glm::vec3 e1 = v3(t.v1) - v3(t.v0), e2 = v3(t.v2) - v3(t.v0);
         base.light_pdf_area[base.light_prims[k]] = weights[k] / total / (0.5f * glm::length(glm::cross(e1, e2)));
     }
+    // Light pairs (for configurations with them): lights 0-1, 2-3, 4-5, the partner's chance
+    // over this triangle's area.
+    base.light_pairs.assign(tris, LightPair{-1, 0.0f});
+    for (int k = 0; k < lights; ++k) {
+        const Triangle& t = base.tris[base.light_prims[k]];
+        const glm::vec3 e1 = v3(t.v1) - v3(t.v0), e2 = v3(t.v2) - v3(t.v0);
+        base.light_pairs[base.light_prims[k]] = {base.light_prims[k ^ 1],
+                                                 weights[k ^ 1] / total / (0.5f * glm::length(glm::cross(e1, e2)))};
+    }
     const int n = 8 * 600 + 5;
     for (int i = 0; i < n; ++i) {
         glm::vec3 d(2 * u01(rng) - 1, 2 * u01(rng) - 1, 2 * u01(rng) - 1);
@@ -730,15 +743,20 @@ ShadeCase random_lane_case(std::mt19937& rng, const std::function<MaterialData(i
 
 // Shades `base` with shade_surface and with shade_surface8 in four estimators (default
 // MIS/Sobol/roulette, the original, NEE with roulette from bounce 1, cosine + Phong), with
-// and without shading normals, at bounces 0, 1 and at the depth limit, with the material
-// kinds `kinds` compiled, and requires every output bit to agree.
+// and without shading normals, at bounces 0, 1 and at the depth limit, the default also with
+// light pairs, with the material kinds `kinds` compiled, and requires every output bit to
+// agree (and the pairs to change the outputs).
 void check_lanes_match_scalar(const ShadeCase& base, const std::vector<MaterialKind>& kinds) {
     const int n = static_cast<int>(base.rays.size());
     std::vector<render::Estimator> estimators = {render::Estimator{}, render::Estimator::original(),
                                                  {render::Sampling::Nee, render::GlossyModel::Ggx, true, 1},
                                                  {render::Sampling::Cosine, render::GlossyModel::Phong, false, 0}};
-    for (const render::Estimator& e : estimators)
+    for (std::size_t ei = 0; ei < estimators.size(); ++ei)
     for (bool normals : {false, true}) {
+    const render::Estimator& e = estimators[ei];
+    std::optional<ShadeOut> unpaired;  // bounce 1 without pairs
+    for (bool pairs : {false, true}) {
+        if (pairs && ei != 0) continue;  // light pairs with the default estimator (MIS)
         for (int bounce : {0, 1, 4}) {
             ShadeCase scalar = base;
             scalar.config = render::KernelConfig{};
@@ -746,6 +764,8 @@ void check_lanes_match_scalar(const ShadeCase& base, const std::vector<MaterialK
             for (MaterialKind k : kinds) scalar.config.kinds.set(static_cast<std::size_t>(k));
             scalar.config.estimator = e;
             scalar.config.normals = normals;
+            scalar.config.light_pairs = pairs;
+            if (!pairs) scalar.light_pairs.clear();
             if (!normals) scalar.normals.clear();
             scalar.bounce = bounce;
             scalar.max_depth = bounce == 4 ? 4 : 8;  // at the depth limit: emission only
@@ -755,8 +775,8 @@ void check_lanes_match_scalar(const ShadeCase& base, const std::vector<MaterialK
             REQUIRE(lanes.config.shade_lanes());
             REQUIRE_FALSE(scalar.config.shade_lanes());
             const ShadeOut a = run_shade(scalar), b = run_shade(lanes);
-            INFO("sampling " << render::sampling_name(e.sampling) << ", glossy "
-                             << render::glossy_name(e.glossy) << ", normals " << normals << ", bounce " << bounce);
+            INFO("sampling " << render::sampling_name(e.sampling) << ", glossy " << render::glossy_name(e.glossy)
+                             << ", normals " << normals << ", light pairs " << pairs << ", bounce " << bounce);
             CHECK(a.count == b.count);
             CHECK(a.shadow_rays.size() == b.shadow_rays.size());
             CHECK(a.counters == b.counters);
@@ -764,7 +784,11 @@ void check_lanes_match_scalar(const ShadeCase& base, const std::vector<MaterialK
             if (bounce < 4) CHECK(a.count > n / 4);
             if (bounce < 4 && lanes.config.nee()) CHECK(a.shadow_rays.size() > std::size_t(n / 10));
             CHECK(output_differences(a, b, n) == 0);
+            // The pairs move light samples (and weigh emission by the paired density).
+            if (bounce == 1 && !pairs) unpaired = a;
+            if (bounce == 1 && pairs) CHECK(output_differences(*unpaired, a, n) > 0);
         }
+    }
     }
 }
 

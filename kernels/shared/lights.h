@@ -10,6 +10,9 @@
 //   light_prims[k]    int, the triangle (scene order) of light k
 //   light_pdf_area[t] float per triangle (scene order): P(choose t) / area(t), the density
 //                     of the light point per unit area; 0 for triangles that are no light
+//   light_pairs[t]    LightPair per triangle (scene order), with WP_HAVE_LIGHT_PAIRS only:
+//                     its back-to-back partner and the density the partner's samples add
+//                     (below; scene/light_pairs.h)
 // A point is uniform on the chosen triangle (Shirley & Chiu's square-root warp, in
 // "A Low Distortion Map Between Disk and Square", JGT 2(3), 1997 / pbrt-v4
 // SampleUniformTriangle), so its density per unit area is P(choose) / area; over solid
@@ -18,6 +21,13 @@
 #define WP_LIGHTS_H
 
 #include "sampling.h"
+#include "types.h"
+
+// Back-to-back light pairs (scene/light_pairs.h): compiled only for scenes whose light
+// triangles have partners.
+#ifndef WP_HAVE_LIGHT_PAIRS
+#define WP_HAVE_LIGHT_PAIRS 0
+#endif
 
 WP_NAMESPACE_BEGIN
 
@@ -34,6 +44,43 @@ WP_NAMESPACE_BEGIN
 WP_FN int wp_light_pick(WP_GLOBAL const float* cdf, int n, WP_GLOBAL const int* guide,
                         int guide_size, float u) {
     return guide_size > 0 ? wp_cdf_pick_guided(cdf, guide, guide_size, u) : wp_cdf_pick(cdf, n, u);
+}
+
+// Light triangle t (frame normal from tri_frames, vertex v0) faces away from x: x is not
+// strictly in front of its plane, so none of its points emits towards x (one-sided lights).
+// The one facing test of the pairs, at both ends of MIS.
+WP_FN int wp_light_faces_away(WP_GLOBAL const Triangle* tris, WP_GLOBAL const float4* tri_frames, int t, float3 x) {
+    return !(dot(wp_xyz(tri_frames[t]), x - wp_xyz(tris[t].v0)) > 0.0f);
+}
+
+#if WP_HAVE_LIGHT_PAIRS
+// The light triangle whose point light sampling from x uses, given the table's pick t: its
+// partner, at the same barycentric coordinates, when t faces away from x and the partner
+// does not; else t itself. x: the origin of the rays that leave the receiver on its
+// arrival side (reflections), the point the BSDF side of MIS sees too.
+WP_FN int wp_light_pair_choose(WP_GLOBAL const Triangle* tris, WP_GLOBAL const float4* tri_frames,
+                               WP_GLOBAL const LightPair* pairs, int t, float3 x) {
+    const int q = pairs[t].partner;
+    if (q >= 0 && wp_light_faces_away(tris, tri_frames, t, x) && !wp_light_faces_away(tris, tri_frames, q, x))
+        return q;
+    return t;
+}
+#endif
+
+// The density per unit area with which light sampling from x draws a point of light
+// triangle s that faces x: P(s) / A(s), plus P(partner) / A(s) where the partner faces
+// away (its samples move to s). pdf_area: light_pdf_area.
+WP_FN float wp_light_pdf_area(WP_GLOBAL const float* pdf_area, WP_GLOBAL const LightPair* pairs,
+                              WP_GLOBAL const Triangle* tris, WP_GLOBAL const float4* tri_frames, int s,
+                              float3 x) {
+    float p = pdf_area[s];
+#if WP_HAVE_LIGHT_PAIRS
+    const LightPair q = pairs[s];
+    if (q.partner >= 0 && wp_light_faces_away(tris, tri_frames, q.partner, x)) p += q.pdf;
+#else
+    (void)pairs, (void)tris, (void)tri_frames, (void)x;
+#endif
+    return p;
 }
 
 // Barycentric weights (b1, b2) of a uniform point on a triangle from u1, u2 in [0, 1);

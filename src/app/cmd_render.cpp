@@ -556,6 +556,7 @@ int run_render(RenderArgs a) {
                          {"traversal", render::traversal_name(s.traversal)},
                          {"kernels", render::kernel_set_name(s.kernels)},
                          {"shade_lanes", s.shade_lanes},
+                         {"light_pairs", s.light_pairs},
                          {"sampling", render::sampling_name(s.estimator.sampling)},
                          {"glossy", render::glossy_name(s.estimator.glossy)},
                          {"rr_depth", s.estimator.rr_depth},

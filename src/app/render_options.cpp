@@ -85,6 +85,13 @@ void add_config_options(CLI::App* c, ConfigArgs& a) {
                   "textures, normal maps, anisotropy or environment); the same image bit for "
                   "bit. off: one path per work-item always")
         ->capture_default_str();
+    c->add_option("--light-pairs", a.light_pairs,
+                  "on: light sampling draws the half of a closed emitter (a tessellated sphere "
+                  "light, an emitting box) that faces the shading point: a sample on a light "
+                  "triangle that faces away moves to its back-to-back partner on the far side "
+                  "(docs/design.md, light sampling); the same image in expectation, less noise. "
+                  "off: every sample stays on the triangle the light table picked")
+        ->capture_default_str();
     c->add_flag("--adaptive", a.adaptive,
                 "Adaptive sampling: after --min-spp samples, a pixel stops receiving samples "
                 "when the largest estimated relMSE over its 3x3 neighbourhood (per pixel: 1/3 "
@@ -168,6 +175,9 @@ render::RenderSettings make_settings(const ConfigArgs& a, const Scene& scene) {
     if (a.shade_lanes != "on" && a.shade_lanes != "off")
         usage_fail("--shade-lanes '{}': expected on or off", a.shade_lanes);
     s.shade_lanes = a.shade_lanes == "on";
+    if (a.light_pairs != "on" && a.light_pairs != "off")
+        usage_fail("--light-pairs '{}': expected on or off", a.light_pairs);
+    s.light_pairs = a.light_pairs == "on";
     if (!(a.adaptive_threshold >= limits::kMinErrorThreshold &&
           a.adaptive_threshold <= limits::kMaxErrorThreshold))
         usage_fail("--adaptive-threshold must be in {:g}..{:g} (got {})", limits::kMinErrorThreshold,

@@ -31,6 +31,7 @@ struct ConfigArgs {
     long long pool = 0;                   // paths in flight, 0..limits::kMaxPool; 0: automatic
     std::string kernels = "specialised";  // specialised | generic (render::KernelSet)
     std::string shade_lanes = "on";       // on | off (render::RenderSettings::shade_lanes)
+    std::string light_pairs = "on";       // on | off (render::RenderSettings::light_pairs)
     bool depth_given = false;             // --depth was on the command line (beats the scene's)
     // Adaptive sampling (render/adaptive.h): --adaptive, --adaptive-threshold, --min-spp.
     bool adaptive = false;

@@ -91,7 +91,7 @@ DeviceScene DeviceScene::upload(const ocl::Device& dev, const Scene& scene, cons
     s.material_tables = ocl::Array<float>::upload(dev, up.material_tables, "the material tables");
     s.background = up.background;
     LightTable lights;
-    if (config.nee()) lights = build_light_table(scene);
+    if (config.nee()) lights = build_light_table(scene, config.sample_pairs(), config.light_partners.get());
     st.light_triangles = lights.size();
     s.light_count = static_cast<int>(lights.size());
     if (lights.size() > 0) {
@@ -102,6 +102,14 @@ DeviceScene DeviceScene::upload(const ocl::Device& dev, const Scene& scene, cons
         s.light_cdf = ocl::Array<float>::zeros(dev, 0, "a placeholder");
         s.light_prims = ocl::Array<int>::zeros(dev, 0, "a placeholder");
         s.light_pdf_area = ocl::Array<float>::zeros(dev, 0, "a placeholder");
+    }
+    // Back-to-back light pairs where the kernels read them (KernelConfig::sample_pairs()); the
+    // generic build's neutral table for a scene without pairs: no partners.
+    if (config.sample_pairs()) {
+        if (lights.pairs.empty()) lights.pairs.assign(scene.triangles.size(), LightPair{-1, 0.0f});
+        s.light_pairs = ocl::Array<LightPair>::upload(dev, lights.pairs, "the light pairs");
+    } else {
+        s.light_pairs = ocl::Array<LightPair>::zeros(dev, 0, "a placeholder");
     }
     // The light pick's guide table (below WP_LIGHT_GUIDE_MIN lights, or without lights, none:
     // size 0 tells the kernel to search the CDF directly).
@@ -171,7 +179,7 @@ DeviceScene DeviceScene::upload(const ocl::Device& dev, const Scene& scene, cons
 
     st.scene_bytes = d.bvh.bytes + s.tris.bytes() + s.tri_frames.bytes() + s.material_ids.bytes() +
                      s.materials.bytes() + s.material_tables.bytes() + s.light_cdf.bytes() +
-                     s.light_guide.bytes() + s.light_prims.bytes() + s.light_pdf_area.bytes() +
+                     s.light_guide.bytes() + s.light_prims.bytes() + s.light_pdf_area.bytes() + s.light_pairs.bytes() +
                      st.texture_bytes + st.attribute_bytes + st.env_bytes;
     st.upload_ms = timer.ms();
     return d;

@@ -52,6 +52,7 @@ struct ShadingScene {
     int light_guide_size = 0;     // its m: light_guide has m + 1 entries
     ocl::Array<int> light_prims;
     ocl::Array<float> light_pdf_area;
+    ocl::Array<LightPair> light_pairs;  // per triangle with KernelConfig::sample_pairs(); else a placeholder
     int light_count = 0;
     // Appearance (placeholders for features the scene lacks; KernelConfig).
     ocl::Array<TriNormals> tri_normals;

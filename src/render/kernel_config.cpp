@@ -2,8 +2,10 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <vector>
 
+#include "scene/light_pairs.h"
 #include "util/error.h"
 
 namespace wp::render {
@@ -49,6 +51,7 @@ KernelConfig KernelConfig::with_every_feature() const {
     c.kinds.set();
     c.emission = true;
     c.normals = c.textures = c.normal_maps = c.alpha_mask = c.env = c.lens = c.anisotropic = true;
+    c.light_pairs = true;
     return c;
 }
 
@@ -80,6 +83,11 @@ KernelConfig KernelConfig::from_scene(const Scene& scene, const Estimator& estim
     // vertex normals.
     c.normals |= c.normal_maps;
     c.env = scene.environment.has_value() && scene.environment->image >= 0;
+    if (c.emission) {
+        auto partner = std::make_shared<const std::vector<int>>(find_light_partners(scene));
+        c.light_pairs = std::any_of(partner->begin(), partner->end(), [](int p) { return p >= 0; });
+        if (c.light_pairs) c.light_partners = std::move(partner);
+    }
     c.lens = scene.camera.lens_radius > 0.0f;
     return c;
 }
@@ -118,6 +126,7 @@ std::string KernelConfig::shade_options() const {
     if (normal_maps) o += " -D WP_HAVE_NORMAL_MAPS=1";
     if (env) o += " -D WP_HAVE_ENV=1";
     if (anisotropic) o += " -D WP_HAVE_ANISOTROPY=1";
+    if (sample_pairs()) o += " -D WP_HAVE_LIGHT_PAIRS=1";
     if (shade_lanes()) o += " -D WP_SHADE_LANES=1";
     return o + replicate_options() + inject_options();
 }

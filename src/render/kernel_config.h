@@ -15,7 +15,9 @@
 #pragma once
 
 #include <bitset>
+#include <memory>
 #include <string>
+#include <vector>
 
 #include "scene/scene.h"
 #include "shared/estimator.h"
@@ -86,6 +88,11 @@ struct KernelConfig {
     int inject_period = 97;
     // Lanes allowed (RenderSettings::shade_lanes on a CPU device): see shade_lanes().
     bool lanes = false;
+    // Some light triangle has a back-to-back partner (scene/light_pairs.h), and the render
+    // uses them (RenderSettings::light_pairs): see sample_pairs(). from_scene keeps the
+    // partners it found for the light table (DeviceScene), so they are searched once.
+    bool light_pairs = false;
+    std::shared_ptr<const std::vector<int>> light_partners;  // find_light_partners; null: none
 
     bool has(MaterialKind k) const { return kinds.test(static_cast<std::size_t>(k)); }
     // Light sampling is compiled only when something emits (a triangle or the environment)
@@ -100,7 +107,7 @@ struct KernelConfig {
     static KernelConfig from_scene(const Scene& scene, const Estimator& estimator = {});
     // This configuration with every feature switch on (the generic build): all material
     // kinds, emission, shading normals, textures, normal maps, alpha cut-outs, the
-    // environment, anisotropy and the thin lens. The estimator and the debug switches stay;
+    // environment, anisotropy, the thin lens and light pairs. The estimator and the debug switches stay;
     // light sampling follows the estimator alone (env = true makes nee() true for nee and
     // mis). The scene must then supply neutral data for what it lacks (DeviceScene::upload).
     KernelConfig with_every_feature() const;
@@ -117,6 +124,9 @@ struct KernelConfig {
     // normals, no other appearance feature, no NaN injection. Adds -D WP_SHADE_LANES=1 to
     // shade_options().
     bool shade_lanes() const;
+    // Light sampling moves samples from light triangles that face away to their partners
+    // (WP_HAVE_LIGHT_PAIRS in shade_options()): light_pairs where light sampling is compiled.
+    bool sample_pairs() const { return light_pairs && nee(); }
     // Some material kind the scene has is specular in every event (material_kinds.h).
     bool any_specular() const;
     // What the renderer prints with -v: the shade slice, the largest.

@@ -80,6 +80,11 @@ struct RenderSettings {
     // Shade eight paths at a time (kernels/shade.cl shade_surface8) on CPU devices where
     // that kernel models the scene (KernelConfig::shade_lanes); off: shade_surface always.
     bool shade_lanes = true;
+    // Light sampling draws the half of a closed emitter that faces the receiver, through
+    // back-to-back pairs of light triangles (scene/light_pairs.h): the same image in
+    // expectation, less noise from sphere lights. Off: every light sample stays on the
+    // triangle the table picked (the estimator before pairs).
+    bool light_pairs = true;
     // Debug (render --debug-nan): see KernelConfig::inject_nan.
     int inject_nan = 0;
     int inject_period = 97;

@@ -49,10 +49,10 @@ namespace {
 // the renderer's own option string (render/kernel_config.h), not a copy of it.
 const std::string kShipped = render::KernelConfig{}.shade_options();
 // The same with every appearance feature of issue 13 on (normals, textures, normal maps,
-// the environment, alpha cut-outs), from the renderer's own option strings.
+// the environment, alpha cut-outs) and light pairs, from the renderer's own option strings.
 const std::string kAppearance = [] {
     render::KernelConfig c;
-    c.normals = c.textures = c.normal_maps = c.env = c.alpha_mask = c.anisotropic = true;
+    c.normals = c.textures = c.normal_maps = c.env = c.alpha_mask = c.anisotropic = c.light_pairs = true;
     return c.shade_options() + " " + c.trace_options();
 }();
 // The generate stage with a thin-lens camera (WP_HAVE_LENS), from the renderer's own string.

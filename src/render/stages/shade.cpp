@@ -27,7 +27,7 @@ void ShadeStage::prepare(const ShadingScene& scene) {
                           scene.tri_frames, scene.material_ids, scene.materials,
                           scene.material_tables, scene.background, scene.light_cdf,
                           scene.light_guide, cl_int(scene.light_guide_size), scene.light_prims,
-                          scene.light_pdf_area, cl_int(scene.light_count),
+                          scene.light_pdf_area, scene.light_pairs, cl_int(scene.light_count),
                           scene.tri_normals, scene.tex.tri_uvs, scene.tri_tangents,
                           scene.tex.material_textures, scene.tex.textures, scene.tex.views,
                           scene.tex.texels8, scene.tex.texelsf, scene.env, scene.env_texels,
