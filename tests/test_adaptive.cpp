@@ -639,7 +639,10 @@ TEST_CASE("target error: the true relMSE at the stop is within 1.5x of the estim
     const int w = 64, h = 48;
     for (int which = 0; which < 2; ++which) {
         Scene scene = which == 0 ? make_cornell_box(2000) : make_veach_plates();
-        const double target = which == 0 ? 3e-3 : 4e-3;
+        // Targets that need more than a hundred samples (docs/adaptive.md: below, a light's
+        // edge pixel that few samples have hit makes the estimate optimistic): the plates'
+        // light pairs reach 4e-3 at 72 to 90 spp, 2.5e-3 at 140.
+        const double target = which == 0 ? 3e-3 : 2.5e-3;
         render::RenderSettings ref_s = small_settings(w, h, 1001);
         ref_s.variance = true;
         render::Wavefront ref(test::device(), scene, ref_s);
