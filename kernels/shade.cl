@@ -349,9 +349,12 @@ WP_FN int wp_shade_path(Ray ray, PathState path, Hit hit, WP_GLOBAL const Triang
         {
             int li = wp_light_pick(lights.cdf, lights.count, lights.guide, lights.guide_size, ul.z);
             lp = lights.prims[li];
+            float lpdf;  // the light point's density per unit area
 #if WP_HAVE_LIGHT_PAIRS
             // A triangle facing away gives its sample to its partner (lights.h).
-            lp = wp_light_pair_choose(tris, tri_frames, lights.pairs, lp, org);
+            lp = wp_light_pair_choose(lights.pdf_area, lights.pairs, tris, tri_frames, lp, org, &lpdf);
+#else
+            lpdf = lights.pdf_area[lp];
 #endif
             Triangle lt = tris[lp];
             l0 = wp_xyz(lt.v0), l1 = wp_xyz(lt.v1), l2 = wp_xyz(lt.v2);
@@ -363,9 +366,7 @@ WP_FN int wp_shade_path(Ray ray, PathState path, Hit hit, WP_GLOBAL const Triang
             float3 to = y - p;
             float dist2 = dot(to, to);
             wi = to * (1.0f / sqrt(dist2));
-            p_light = wp_light_pdf_solid_angle(
-                wp_light_pdf_area(lights.pdf_area, lights.pairs, tris, tri_frames, lp, org) * (1.0f - p_env),
-                dist2, -dot(wi, ln));
+            p_light = wp_light_pdf_solid_angle(lpdf * (1.0f - p_env), dist2, -dot(wi, ln));
 #if WP_HAVE_TEXTURES
             lbl = bl;
 #endif
@@ -923,8 +924,13 @@ WP_KERNEL void shade_surface8(WP_SHADE_SURFACE_PARAMS) {
                     int lp = light_prims[li];
 #if WP_HAVE_LIGHT_PAIRS
                     // shade_surface's pair choice and density, from the same origin.
-                    const float3 x = make_float3(orx[l], ory[l], orz[l]);
-                    if ((sampled_bits >> l) & 1) lp = wp_light_pair_choose(tris, tri_frames, light_pairs, lp, x);
+                    if ((sampled_bits >> l) & 1)
+                        lp = wp_light_pair_choose(light_pdf_area, light_pairs, tris, tri_frames, lp,
+                                                  make_float3(orx[l], ory[l], orz[l]), &lpa[l]);
+                    else
+                        lpa[l] = light_pdf_area[lp];
+#else
+                    lpa[l] = light_pdf_area[lp];
 #endif
                     Triangle lt = tris[lp];
                     float4 lf = tri_frames[lp];
@@ -933,13 +939,6 @@ WP_KERNEL void shade_surface8(WP_SHADE_SURFACE_PARAMS) {
                     l1x[l] = lt.v1.x, l1y[l] = lt.v1.y, l1z[l] = lt.v1.z;
                     l2x[l] = lt.v2.x, l2y[l] = lt.v2.y, l2z[l] = lt.v2.z;
                     lnx[l] = lf.x, lny[l] = lf.y, lnz[l] = lf.z, loff[l] = lf.w;
-#if WP_HAVE_LIGHT_PAIRS
-                    lpa[l] = (sampled_bits >> l) & 1
-                                 ? wp_light_pdf_area(light_pdf_area, light_pairs, tris, tri_frames, lp, x)
-                                 : light_pdf_area[lp];
-#else
-                    lpa[l] = light_pdf_area[lp];
-#endif
                     lex[l] = le.x, ley[l] = le.y, lez[l] = le.z;
                 }
                 const L3 ln = l3(vload8(0, lnx), vload8(0, lny), vload8(0, lnz));

@@ -451,10 +451,10 @@ TEST_CASE("hard: a tessellated sphere light over a white floor matches Lambert's
 }
 
 // Light pairs (scene/light_pairs.h): a light sample on a triangle that faces away from the
-// receiver moves to its partner on the far side of the sphere. With and without pairs NEE
-// must meet Lambert's formula (every bin within 4 standard errors), and with pairs its
-// standard error must drop (about half of the unpaired samples land on the far side and
-// come back black): by at least 25 % in every bin (measured: 40-51 %).
+// receiver moves to its partner on the far side of the sphere. With and without pairs NEE,
+// and MIS with them, must meet Lambert's formula (every bin within 4 standard errors), and
+// with pairs NEE's standard error must drop (about half of the unpaired samples land on the
+// far side and come back black): by at least 25 % in every bin (measured: 40-51 %).
 TEST_CASE("hard: light pairs keep a sphere light's NEE unbiased and cut its noise", "[hard][render]") {
     const int w = 40, h = 40;
     std::uint32_t seed = 101;
@@ -464,12 +464,15 @@ TEST_CASE("hard: light pairs keep a sphere light's NEE unbiased and cut its nois
         std::vector<Receiver> rec = receivers(s, light, 0.5f, w, h);
         auto off = render_bins(s, rec, w, h, render::Sampling::Nee, 1024, seed++, false);
         auto on = render_bins(s, rec, w, h, render::Sampling::Nee, 1024, seed++, true);
+        // MIS weighs the BSDF samples that hit the light by the paired density too.
+        auto mis = render_bins(s, rec, w, h, render::Sampling::Mis, 1024, seed++, true);
         for (int b = 0; b < kBins; ++b) {
             INFO((fine ? "5,120" : "48") << " triangles, cos θ " << kBinLo[b] << "-" << kBinHi[b]
                                          << ": without pairs " << off[b].ratio << " (" << off[b].rel_se
                                          << "), with " << on[b].ratio << " (" << on[b].rel_se << ")");
             CHECK(std::abs(off[b].z) < 4.0);
             CHECK(std::abs(on[b].z) < 4.0);
+            CHECK(std::abs(mis[b].z) < 4.0);
             CHECK(on[b].rel_se < 0.75 * off[b].rel_se);
             std::printf("light pairs, %s triangles, cos θ %.2f-%.2f: standard error %.4f -> %.4f (%.2fx)\n",
                         fine ? "5,120" : "48", kBinLo[b], kBinHi[b], off[b].rel_se, on[b].rel_se,

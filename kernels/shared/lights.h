@@ -53,20 +53,6 @@ WP_FN int wp_light_faces_away(WP_GLOBAL const Triangle* tris, WP_GLOBAL const fl
     return !(dot(wp_xyz(tri_frames[t]), x - wp_xyz(tris[t].v0)) > 0.0f);
 }
 
-#if WP_HAVE_LIGHT_PAIRS
-// The light triangle whose point light sampling from x uses, given the table's pick t: its
-// partner, at the same barycentric coordinates, when t faces away from x and the partner
-// does not; else t itself. x: the origin of the rays that leave the receiver on its
-// arrival side (reflections), the point the BSDF side of MIS sees too.
-WP_FN int wp_light_pair_choose(WP_GLOBAL const Triangle* tris, WP_GLOBAL const float4* tri_frames,
-                               WP_GLOBAL const LightPair* pairs, int t, float3 x) {
-    const int q = pairs[t].partner;
-    if (q >= 0 && wp_light_faces_away(tris, tri_frames, t, x) && !wp_light_faces_away(tris, tri_frames, q, x))
-        return q;
-    return t;
-}
-#endif
-
 // The density per unit area with which light sampling from x draws a point of light
 // triangle s that faces x: P(s) / A(s), plus P(partner) / A(s) where the partner faces
 // away (its samples move to s). pdf_area: light_pdf_area.
@@ -82,6 +68,32 @@ WP_FN float wp_light_pdf_area(WP_GLOBAL const float* pdf_area, WP_GLOBAL const L
 #endif
     return p;
 }
+
+#if WP_HAVE_LIGHT_PAIRS
+// The light triangle whose point light sampling from x uses, given the table's pick t: its
+// partner, at the same barycentric coordinates, when t faces away from x and the partner
+// does not; else t itself. *pdf: wp_light_pdf_area of that triangle, from the same two
+// facing tests (pairs are mutual: the partner's partner is t). x: the origin of the rays
+// that leave the receiver on its arrival side (reflections), the point the BSDF side of MIS
+// sees too.
+WP_FN int wp_light_pair_choose(WP_GLOBAL const float* pdf_area, WP_GLOBAL const LightPair* pairs,
+                               WP_GLOBAL const Triangle* tris, WP_GLOBAL const float4* tri_frames, int t,
+                               float3 x, float* pdf) {
+    const LightPair pt = pairs[t];
+    if (pt.partner < 0) {
+        *pdf = pdf_area[t];
+        return t;
+    }
+    const int q = pt.partner;
+    const int q_away = wp_light_faces_away(tris, tri_frames, q, x);
+    if (!q_away && wp_light_faces_away(tris, tri_frames, t, x)) {
+        *pdf = pdf_area[q] + pairs[q].pdf;  // t, q's partner, faces away
+        return q;
+    }
+    *pdf = q_away ? pdf_area[t] + pt.pdf : pdf_area[t];
+    return t;
+}
+#endif
 
 // Barycentric weights (b1, b2) of a uniform point on a triangle from u1, u2 in [0, 1);
 // the point is (1 − b1 − b2) v0 + b1 v1 + b2 v2.
