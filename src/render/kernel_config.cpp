@@ -83,7 +83,8 @@ KernelConfig KernelConfig::from_scene(const Scene& scene, const Estimator& estim
     // vertex normals.
     c.normals |= c.normal_maps;
     c.env = scene.environment.has_value() && scene.environment->image >= 0;
-    if (c.emission) {
+    // Pairs matter to light sampling only (the search costs ~1 µs a light triangle).
+    if (c.nee()) {
         auto partner = std::make_shared<const std::vector<int>>(find_light_partners(scene));
         c.light_pairs = std::any_of(partner->begin(), partner->end(), [](int p) { return p >= 0; });
         if (c.light_pairs) c.light_partners = std::move(partner);
