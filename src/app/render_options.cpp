@@ -89,7 +89,7 @@ void add_config_options(CLI::App* c, ConfigArgs& a) {
                   "on: light sampling draws the half of a closed emitter (a tessellated sphere "
                   "light, an emitting box) that faces the shading point: a sample on a light "
                   "triangle that faces away moves to its back-to-back partner on the far side "
-                  "(docs/design.md, light sampling); the same image in expectation, less noise. "
+                  "(docs/design.md, \"Light pairs\"); the same image in expectation, less noise. "
                   "off: every sample stays on the triangle the light table picked")
         ->capture_default_str();
     c->add_flag("--adaptive", a.adaptive,
