@@ -163,8 +163,12 @@ WP_FN float3 wp_triangle_dpdu(float3 e1, float3 e2, TriUVs t) {
 }
 #endif
 
-// Adds v to radiance[item] when finite; counts it otherwise.
+// Adds v to radiance[item] when finite; counts it otherwise. A zero v (a miss in a scene
+// with a black background) skips the read-modify-write: radiance[item] + 0 is radiance[item],
+// and the load of a random item in the wave is a cache miss (10 % of shade_surface8's time on
+// the built-in box before this test).
 WP_FN void wp_add_radiance(WP_GLOBAL float4* radiance, int item, float3 v, WP_GLOBAL int* counters) {
+    if (v.x == 0.0f && v.y == 0.0f && v.z == 0.0f) return;
     if (wp_all_finite3(v))
         radiance[item] += wp_float4(v, 0.0f);
     else
