@@ -49,3 +49,54 @@
 WP_INTERSECT_ENTRIES(intersect_closest, wp_trace_closest)
 WP_INTERSECT_ENTRIES(intersect_closest_stack, wp_trace_closest_stack)
 WP_INTERSECT_ENTRIES(intersect_any, wp_trace_any)
+
+// The last bounce's rays (bounce == depth) in a scene whose escaped rays carry no radiance
+// (black background, no environment that shines): such a ray adds light only where its
+// closest hit is an emitter (at the last bounce shade only adds a hit's emission), so it is
+// traced first through the BVH of the emitting triangles alone (e_*: DeviceScene::
+// emitter_bvh, prim_ids in scene order). A ray that meets no emitter gets a miss, which adds
+// the same nothing a non-emitting hit would; one that meets an emitter at t_e is traced
+// through the whole scene for hits at t <= t_e (tmax: the next float above t_e), which is the
+// unrestricted closest hit bit for bit: the closest hit is the smallest (t, prim) among the
+// ray's hits, and (t_e, that emitter) is one of them. Wavefront::run_wave launches it for the
+// last bounce (render --final-rays).
+#define WP_INTERSECT_FINAL_ENTRIES(name, trace)                                             \
+    WP_FN Hit name##_ray(Ray r, WP_GLOBAL const BvhNode* nodes, WP_GLOBAL const BvhLinks* links, \
+                         WP_GLOBAL const Triangle* tris, WP_GLOBAL const int* prim_ids,      \
+                         WP_GLOBAL const BvhNode* e_nodes, WP_GLOBAL const BvhLinks* e_links, \
+                         WP_GLOBAL const Triangle* e_tris, WP_GLOBAL const int* e_prim_ids,  \
+                         TraceStats* st WP_ALPHA_PARAM) {                                    \
+        Hit h = trace(r, e_nodes, e_links, e_tris, e_prim_ids, st WP_ALPHA_ARG);            \
+        if (h.prim < 0) return h;                                                           \
+        r.dir.w = as_float(as_int(h.t) + 1);                                                \
+        return trace(r, nodes, links, tris, prim_ids, st WP_ALPHA_ARG);                     \
+    }                                                                                       \
+    WP_KERNEL void name##_batch(WP_GLOBAL const Ray* rays, int count,                         \
+                               WP_GLOBAL const BvhNode* nodes, WP_GLOBAL const BvhLinks* links, \
+                               WP_GLOBAL const Triangle* tris, WP_GLOBAL const int* prim_ids,   \
+                               WP_GLOBAL const BvhNode* e_nodes, WP_GLOBAL const BvhLinks* e_links, \
+                               WP_GLOBAL const Triangle* e_tris, WP_GLOBAL const int* e_prim_ids, \
+                               WP_GLOBAL Hit* hits WP_ALPHA_KERNEL_PARAMS) {                 \
+        int i = wp_global_id();                                                             \
+        if (i >= count) return;                                                             \
+        WP_ALPHA_SETUP                                                                      \
+        TraceStats st = {0, 0};                                                             \
+        hits[i] = name##_ray(rays[i], nodes, links, tris, prim_ids, e_nodes, e_links, e_tris, \
+                             e_prim_ids, &st WP_ALPHA_ARG);                                  \
+    }                                                                                       \
+    WP_KERNEL void name(WP_GLOBAL const Ray* rays, WP_GLOBAL const int* queue_count,           \
+                       WP_GLOBAL const BvhNode* nodes, WP_GLOBAL const BvhLinks* links,       \
+                       WP_GLOBAL const Triangle* tris, WP_GLOBAL const int* prim_ids,         \
+                       WP_GLOBAL const BvhNode* e_nodes, WP_GLOBAL const BvhLinks* e_links,   \
+                       WP_GLOBAL const Triangle* e_tris, WP_GLOBAL const int* e_prim_ids,    \
+                       WP_GLOBAL Hit* hits WP_ALPHA_KERNEL_PARAMS) {                         \
+        int i = wp_global_id();                                                             \
+        if (i >= queue_count[0]) return;                                                    \
+        WP_ALPHA_SETUP                                                                      \
+        TraceStats st = {0, 0};                                                             \
+        hits[i] = name##_ray(rays[i], nodes, links, tris, prim_ids, e_nodes, e_links, e_tris, \
+                             e_prim_ids, &st WP_ALPHA_ARG);                                  \
+    }
+
+WP_INTERSECT_FINAL_ENTRIES(intersect_final, wp_trace_closest)
+WP_INTERSECT_FINAL_ENTRIES(intersect_final_stack, wp_trace_closest_stack)

@@ -235,3 +235,54 @@ TEST_CASE("render: a depth of 10^6 ends when the paths end (furnace Le / (1 - rh
     CHECK(launches > 16);
     CHECK(launches < 2000);
 }
+
+// The last bounce's rays through the emitters' BVH first (render --final-rays, kernels/
+// intersect.cl intersect_final) return the closest hit wherever it emits and a miss or that
+// hit elsewhere (test_intersect.cpp); where escaped rays carry no light the image must then be
+// the closest-hit render's, bit for bit, for every estimator and depth.
+TEST_CASE("render: the last bounce through the emitters' BVH gives the same image bit for bit",
+          "[render]") {
+    auto render = [](const Scene& scene, render::Sampling sampling, int depth, bool final_rays,
+                     bool* engaged, bool aov = false) {
+        render::RenderSettings s;
+        s.aov = aov;  // feature buffers read the last bounce's hits: every bounce whole
+        s.width = 40;
+        s.height = 30;
+        s.depth = depth;
+        s.seed = 5;
+        s.estimator.sampling = sampling;
+        s.final_rays = final_rays;
+        render::Wavefront wf(test::device(), scene, s);
+        *engaged = wf.final_rays_through_emitters();
+        render::LoopOptions lo;
+        lo.spp = 4;
+        render::render_frames(wf, lo, nullptr);
+        return wf.film();
+    };
+    Scene scene = make_cornell_box(2000);
+    REQUIRE(render::final_rays_through_emitters(scene));
+    for (auto sampling : {render::Sampling::Mis, render::Sampling::Nee, render::Sampling::Cosine,
+                          render::Sampling::Uniform})
+        for (int depth : {0, 1, 3}) {
+            INFO("sampling " << render::sampling_name(sampling) << ", depth " << depth);
+            bool on = false, off = true;
+            auto a = render(scene, sampling, depth, true, &on);
+            auto b = render(scene, sampling, depth, false, &off);
+            CHECK(on);
+            CHECK_FALSE(off);
+            REQUIRE(a.size() == b.size());
+            CHECK(std::memcmp(a.data(), b.data(), a.size() * sizeof(FilmPixel)) == 0);
+        }
+    // Where escaped rays shine, or most of the surface emits, every bounce is traced whole.
+    Scene lit = scene;
+    lit.background = glm::vec3(0.1f);
+    CHECK_FALSE(render::final_rays_through_emitters(lit));
+    CHECK_FALSE(render::final_rays_through_emitters(make_closed_box_furnace(1.0f, 0.5f)));
+    CHECK(render::emitter_area_share(make_closed_box_furnace(1.0f, 0.5f)) == Approx(1.0));
+    bool engaged = true;
+    (void)render(lit, render::Sampling::Mis, 1, true, &engaged);
+    CHECK_FALSE(engaged);
+    engaged = true;
+    (void)render(scene, render::Sampling::Mis, 1, true, &engaged, true);
+    CHECK_FALSE(engaged);
+}

@@ -557,6 +557,7 @@ int run_render(RenderArgs a) {
                          {"kernels", render::kernel_set_name(s.kernels)},
                          {"shade_lanes", s.shade_lanes},
                          {"light_pairs", s.light_pairs},
+                         {"final_rays", wf.final_rays_through_emitters() ? "emitters" : "closest"},
                          {"sampling", render::sampling_name(s.estimator.sampling)},
                          {"glossy", render::glossy_name(s.estimator.glossy)},
                          {"rr_depth", s.estimator.rr_depth},

@@ -92,6 +92,14 @@ void add_config_options(CLI::App* c, ConfigArgs& a) {
                   "(docs/design.md, \"Light pairs\"); the same image in expectation, less noise. "
                   "off: every sample stays on the triangle the light table picked")
         ->capture_default_str();
+    c->add_option("--final-rays", a.final_rays,
+                  "emitters: where escaped rays carry no light (black background, no "
+                  "environment), no --aov or --denoise, and at most a quarter of the triangles "
+                  "emit, the last bounce's rays are traced through the emitting triangles' own "
+                  "BVH first, and through the scene only up to the emitter they meet (at the "
+                  "last bounce only an emitter adds light); the same image bit for bit. "
+                  "closest: every bounce traced through the whole scene")
+        ->capture_default_str();
     c->add_flag("--adaptive", a.adaptive,
                 "Adaptive sampling: after --min-spp samples, a pixel stops receiving samples "
                 "when the largest estimated relMSE over its 3x3 neighbourhood (per pixel: 1/3 "
@@ -178,6 +186,9 @@ render::RenderSettings make_settings(const ConfigArgs& a, const Scene& scene) {
     if (a.light_pairs != "on" && a.light_pairs != "off")
         usage_fail("--light-pairs '{}': expected on or off", a.light_pairs);
     s.light_pairs = a.light_pairs == "on";
+    if (a.final_rays != "emitters" && a.final_rays != "closest")
+        usage_fail("--final-rays '{}': expected emitters or closest", a.final_rays);
+    s.final_rays = a.final_rays == "emitters";
     if (!(a.adaptive_threshold >= limits::kMinErrorThreshold &&
           a.adaptive_threshold <= limits::kMaxErrorThreshold))
         usage_fail("--adaptive-threshold must be in {:g}..{:g} (got {})", limits::kMinErrorThreshold,

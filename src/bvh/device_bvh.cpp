@@ -4,12 +4,13 @@
 
 namespace wp::bvh {
 
-DeviceBvh DeviceBvh::upload(const ocl::Device& dev, const FlatBvh& flat) {
+DeviceBvh DeviceBvh::upload(const ocl::Device& dev, const FlatBvh& flat, bool emitters) {
     DeviceBvh d;
-    d.nodes = ocl::Array<BvhNode>::upload(dev, flat.nodes, "the BVH nodes");
-    d.links = ocl::Array<BvhLinks>::upload(dev, flat.links, "the BVH links");
-    d.triangles = ocl::Array<Triangle>::upload(dev, flat.triangles, "the triangles");
-    d.prim_ids = ocl::Array<int>::upload(dev, flat.prim_ids, "the triangle ids");
+    d.nodes = ocl::Array<BvhNode>::upload(dev, flat.nodes, emitters ? "the emitters' BVH nodes" : "the BVH nodes");
+    d.links = ocl::Array<BvhLinks>::upload(dev, flat.links, emitters ? "the emitters' BVH links" : "the BVH links");
+    d.triangles = ocl::Array<Triangle>::upload(dev, flat.triangles,
+                                               emitters ? "the emitters' triangles" : "the triangles");
+    d.prim_ids = ocl::Array<int>::upload(dev, flat.prim_ids, emitters ? "the emitters' triangle ids" : "the triangle ids");
     d.node_count = static_cast<int>(flat.nodes.size());
     d.triangle_count = static_cast<int>(flat.triangles.size());
     d.bytes = flat.nodes.size() * sizeof(BvhNode) + flat.links.size() * sizeof(BvhLinks) +
@@ -32,6 +33,8 @@ BatchTracer::BatchTracer(const ocl::Device& dev, bool stats, const std::string& 
     closest_ = ocl::Kernel(program_, "intersect_closest_batch", "intersect.closest");
     stack_ = ocl::Kernel(program_, "intersect_closest_stack_batch", "intersect.closest_stack");
     any_ = ocl::Kernel(program_, "intersect_any_batch", "intersect.any");
+    final_ = ocl::Kernel(program_, "intersect_final_batch", "intersect.final");
+    final_stack_ = ocl::Kernel(program_, "intersect_final_stack_batch", "intersect.final_stack");
     dummy_stats_ = ocl::Array<TraceStats>::allocate(dev, 1, "a placeholder");
 }
 
@@ -45,6 +48,22 @@ BatchTracer::BatchTracer(const ocl::Device& dev, bool stats, const std::string& 
     return k.launch({&dev_.queue, profiler}, static_cast<std::size_t>(count), rays, count,
                     bvh.nodes, bvh.links, bvh.triangles, bvh.prim_ids, hits,
                     stats ? *stats : dummy_stats_.buffer);
+}
+
+std::vector<Hit> BatchTracer::trace_final(const DeviceBvh& bvh, const DeviceBvh& emitters,
+                                          const std::vector<Ray>& rays, bool stack) {
+    std::vector<Hit> hits(rays.size());
+    if (rays.empty()) return hits;
+    const std::size_t n = rays.size();
+    ::cl::Buffer rb = dev_.create_buffer(CL_MEM_READ_ONLY, n * sizeof(Ray), "the ray batch");
+    ::cl::Buffer hb = dev_.create_buffer(CL_MEM_WRITE_ONLY, n * sizeof(Hit), "the hit batch");
+    dev_.queue.enqueueWriteBuffer(rb, CL_FALSE, 0, n * sizeof(Ray), rays.data());
+    // *_batch(rays, count, nodes, links, tris, prim_ids, e_nodes, e_links, e_tris, e_prim_ids, hits)
+    (stack ? final_stack_ : final_).launch({&dev_.queue, nullptr}, n, rb, static_cast<int>(n), bvh.nodes,
+                                           bvh.links, bvh.triangles, bvh.prim_ids, emitters.nodes,
+                                           emitters.links, emitters.triangles, emitters.prim_ids, hb);
+    dev_.queue.enqueueReadBuffer(hb, CL_TRUE, 0, n * sizeof(Hit), hits.data());
+    return hits;
 }
 
 std::vector<Hit> BatchTracer::trace(const DeviceBvh& bvh, const std::vector<Ray>& rays, TraceVariant v,

@@ -29,7 +29,9 @@ struct DeviceBvh {
     int triangle_count = 0;
     std::size_t bytes = 0;
 
-    static DeviceBvh upload(const ocl::Device& dev, const FlatBvh& flat);
+    // emitters: the BVH of the emitting triangles alone (render::DeviceScene::emitter_bvh),
+    // named so in the memory report.
+    static DeviceBvh upload(const ocl::Device& dev, const FlatBvh& flat, bool emitters = false);
 };
 
 enum class TraceVariant { Stackless, Stack, Any };
@@ -44,6 +46,12 @@ class BatchTracer {
     std::vector<Hit> trace(const DeviceBvh& bvh, const std::vector<Ray>& rays, TraceVariant v,
                            std::vector<TraceStats>* stats = nullptr);
 
+    // Traces host rays as the last bounce's (kernels/intersect.cl intersect_final_batch, or
+    // intersect_final_stack_batch with stack): through `emitters` (flatten_subset of the
+    // emitting triangles) first, then through `bvh` up to the emitter met.
+    std::vector<Hit> trace_final(const DeviceBvh& bvh, const DeviceBvh& emitters, const std::vector<Ray>& rays,
+                                 bool stack = false);
+
     // Enqueues a trace of `count` rays already on the device; returns its event.
     ::cl::Event enqueue(const DeviceBvh& bvh, const ::cl::Buffer& rays, int count, const ::cl::Buffer& hits,
                         TraceVariant v, const ::cl::Buffer* stats = nullptr, ocl::Profiler* profiler = nullptr);
@@ -54,7 +62,7 @@ class BatchTracer {
     const ocl::Device& dev_;
     bool stats_;
     ocl::Program program_;
-    ocl::Kernel closest_, stack_, any_;
+    ocl::Kernel closest_, stack_, any_, final_, final_stack_;
     ocl::Array<TraceStats> dummy_stats_;
 };
 

@@ -154,4 +154,14 @@ FlatBvh flatten(const Bvh& bvh, std::span<const glm::vec3> positions, std::span<
     return out;
 }
 
+FlatBvh flatten_subset(std::span<const glm::vec3> positions, std::span<const glm::uvec3> indices,
+                       std::span<const int> subset) {
+    std::vector<glm::uvec3> tris;
+    tris.reserve(subset.size());
+    for (int k : subset) tris.push_back(indices[static_cast<std::size_t>(k)]);
+    FlatBvh flat = flatten(build(triangle_boxes(positions, tris)), positions, tris);
+    for (int& p : flat.prim_ids) p = subset[static_cast<std::size_t>(p)];
+    return flat;
+}
+
 }  // namespace wp::bvh

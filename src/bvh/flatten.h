@@ -50,6 +50,12 @@ std::vector<Aabb> triangle_boxes(std::span<const glm::vec3> positions, std::span
 
 FlatBvh flatten(const Bvh& bvh, std::span<const glm::vec3> positions, std::span<const glm::uvec3> indices);
 
+// The BVH of the triangles indices[subset[k]] alone (built and flattened as above), its
+// prim_ids naming them by their index in `indices` (the subset's values): the emitters' BVH
+// of the last bounce (render::DeviceScene::emitter_bvh).
+FlatBvh flatten_subset(std::span<const glm::vec3> positions, std::span<const glm::uvec3> indices,
+                       std::span<const int> subset);
+
 // Encodes a leaf reference (types.h); throws wp::Error when first/count do not fit.
 int leaf_ref(int first, int count);
 

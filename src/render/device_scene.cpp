@@ -13,6 +13,7 @@
 #include "bvh/flatten.h"
 #include "render/memory.h"
 #include "scene/upload.h"
+#include "util/error.h"
 #include "util/host_trace.h"
 #include "util/timer.h"
 
@@ -51,10 +52,45 @@ EnvUpload black_environment() {
     return upload_environment(black, t, warnings);
 }
 
+bool emits(const Scene& scene, std::size_t i) {
+    return scene.materials.at(static_cast<std::size_t>(scene.material_ids.at(i))).emissive();
+}
+
+// The emitting triangles' BVH, prim_ids naming them in scene order (the tie rule at equal t
+// and the alpha test read those).
+bvh::FlatBvh emitter_flat_bvh(const Scene& scene) {
+    std::vector<int> ids;
+    for (std::size_t i = 0; i < scene.triangles.size(); ++i)
+        if (emits(scene, i)) ids.push_back(static_cast<int>(i));
+    return bvh::flatten_subset(scene.positions, scene.triangles, ids);
+}
+
 }  // namespace
 
+double emitter_area_share(const Scene& scene) {
+    double all = 0.0, emitting = 0.0;
+    for (std::size_t i = 0; i < scene.triangles.size(); ++i) {
+        const glm::uvec3& t = scene.triangles[i];
+        const glm::dvec3 a(scene.positions.at(t.x)), b(scene.positions.at(t.y)), c(scene.positions.at(t.z));
+        const double area = 0.5 * glm::length(glm::cross(b - a, c - a));
+        if (!std::isfinite(area)) continue;
+        all += area;
+        if (emits(scene, i)) emitting += area;
+    }
+    return all > 0.0 ? emitting / all : 0.0;
+}
+
+bool final_rays_through_emitters(const Scene& scene) {
+    const bool black_miss = scene.background == glm::vec3(0.0f) &&
+                            (!scene.environment || scene.environment->scale == 0.0f);
+    if (!black_miss) return false;
+    bool any = false;
+    for (std::size_t i = 0; i < scene.triangles.size() && !any; ++i) any = emits(scene, i);
+    return any && emitter_area_share(scene) <= kFinalRaysMaxEmitterArea;
+}
+
 DeviceScene DeviceScene::upload(const ocl::Device& dev, const Scene& scene, const KernelConfig& config,
-                                int width, int height, bool jitter) {
+                                int width, int height, bool jitter, bool emitter_bvh) {
     DeviceScene d;
     Timer timer;
     std::optional<HostSpan> span(std::in_place, "bvh");
@@ -81,6 +117,12 @@ DeviceScene DeviceScene::upload(const ocl::Device& dev, const Scene& scene, cons
     {
         ocl::MemoryGroup group(dev, kMemoryBvh);
         d.bvh = bvh::DeviceBvh::upload(dev, flat);
+        if (emitter_bvh) {
+            if (!final_rays_through_emitters(scene))
+                fail("scene upload: the emitters' BVH asked for a scene whose escaped rays shine or whose triangles mostly emit");
+            d.emitter_bvh = bvh::DeviceBvh::upload(dev, emitter_flat_bvh(scene), true);
+            st.emitter_bvh_triangles = static_cast<std::size_t>(d.emitter_bvh.triangle_count);
+        }
     }
     ocl::MemoryGroup group(dev, kMemoryScene);  // everything else this function uploads
     ShadingScene& s = d.shading;
@@ -177,7 +219,7 @@ DeviceScene DeviceScene::upload(const ocl::Device& dev, const Scene& scene, cons
                               static_cast<float>(height));
     d.warnings = std::move(app.warnings);
 
-    st.scene_bytes = d.bvh.bytes + s.tris.bytes() + s.tri_frames.bytes() + s.material_ids.bytes() +
+    st.scene_bytes = d.bvh.bytes + d.emitter_bvh.bytes + s.tris.bytes() + s.tri_frames.bytes() + s.material_ids.bytes() +
                      s.materials.bytes() + s.material_tables.bytes() + s.light_cdf.bytes() +
                      s.light_guide.bytes() + s.light_prims.bytes() + s.light_pdf_area.bytes() + s.light_pairs.bytes() +
                      st.texture_bytes + st.attribute_bytes + st.env_bytes;

@@ -73,6 +73,7 @@ struct SceneStats {
     std::size_t emissive_materials = 0;
     std::size_t light_triangles = 0;  // entries of the NEE light table (0 without NEE)
     std::size_t bvh_nodes = 0;        // interior nodes of the flattened BVH
+    std::size_t emitter_bvh_triangles = 0;  // triangles of the emitters' BVH (0: none built)
     int bvh_depth = 0;
     double bvh_build_ms = 0.0;    // binned SAH build (bvh::build)
     double bvh_flatten_ms = 0.0;  // collapse to the 8-wide device layout (bvh::flatten)
@@ -91,16 +92,34 @@ struct SceneStats {
 // 2048x1024, 42.7 MiB" — the device memory of the appearance data; "" when the scene has none.
 std::string describe_appearance(const SceneStats& stats);
 
+// Whether the last bounce's rays can go through the emitting triangles' BVH first
+// (IntersectStage::enqueue_final, kernels/intersect.cl intersect_final): where escaped rays
+// carry no radiance (a black background, no environment map or one of scale 0), a last-bounce
+// ray adds light only where its closest hit emits. The emitters' BVH is the cheaper first
+// test where most rays miss the emitters: some triangle emits and the emitting triangles
+// hold at most kFinalRaysMaxEmitterArea of the surface area (a furnace whose every wall
+// emits traces its last bounce 1.24x slower this way; docs/performance.md, "Eighth round").
+// The renderer also needs no hit of the last bounce for anything else (no feature buffers:
+// Wavefront).
+constexpr double kFinalRaysMaxEmitterArea = 0.25;
+// The emitting triangles' share of the scene's surface area (0 for a scene without area).
+double emitter_area_share(const Scene& scene);
+bool final_rays_through_emitters(const Scene& scene);
+
 struct DeviceScene {
     bvh::DeviceBvh bvh;
+    // The emitting triangles' own BVH (prim_ids in scene order), uploaded only when asked
+    // (upload's emitter_bvh); empty otherwise.
+    bvh::DeviceBvh emitter_bvh;
     ShadingScene shading;
     CameraData camera{};
     SceneStats stats;
     std::vector<std::string> warnings;  // from the upload (e.g. an environment map not 2:1)
 
     // Builds the BVH and uploads; throws wp::Error for bad scenes or too little memory.
+    // emitter_bvh: also the emitters' BVH (final_rays_through_emitters must hold).
     static DeviceScene upload(const ocl::Device& dev, const Scene& scene, const KernelConfig& config,
-                              int width, int height, bool jitter);
+                              int width, int height, bool jitter, bool emitter_bvh = false);
 };
 
 }  // namespace wp::render

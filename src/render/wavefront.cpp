@@ -70,7 +70,9 @@ KernelConfig make_config(const ocl::Device& dev, const Scene& scene, const Rende
 Wavefront::Wavefront(ocl::Device& dev, const Scene& scene, const RenderSettings& settings)
     : dev_(dev), settings_((validate(settings), with_implied(settings))), config_(make_config(dev, scene, settings)),
       options_(config_.options()), memory_from_(dev.memory ? dev.memory->next_id() : 0),
-      scene_(DeviceScene::upload(dev, scene, config_, settings.width, settings.height, settings.jitter)) {
+      final_emitters_(settings.final_rays && !settings.aov && render::final_rays_through_emitters(scene)),
+      scene_(DeviceScene::upload(dev, scene, config_, settings.width, settings.height, settings.jitter,
+                                 final_emitters_)) {
     // Scene, pool, film: each buffer is checked against the device before it is created
     // (cl/memory.h), so a render that does not fit fails here, before any kernel runs.
     const auto pixels = static_cast<std::size_t>(pixel_count());
@@ -314,8 +316,12 @@ void Wavefront::run_wave(int first_pixel, std::uint32_t first_sample, int count,
     for (int b = 0; b <= depth; ++b) {
         const PathQueue& in = pool_.queue[b & 1];
         const PathQueue& out = pool_.queue[(b & 1) ^ 1];
-        // Closest hits of the queued rays.
-        intersect_.enqueue(live, in, scene_.bvh, pool_.hits, &scene_.shading.tex);
+        // Closest hits of the queued rays; at the last bounce, where only emitters can add
+        // light, through the emitters' BVH first (the same hits wherever shade adds).
+        if (b == depth && final_emitters_)
+            intersect_.enqueue_final(live, in, scene_.bvh, scene_.emitter_bvh, pool_.hits, &scene_.shading.tex);
+        else
+            intersect_.enqueue(live, in, scene_.bvh, pool_.hits, &scene_.shading.tex);
         // Feature buffers at the first non-specular hit (render --aov, --denoise).
         if (settings_.aov && aov_stage_.record_at(b))
             aov_stage_.record(live, in, pool_.hits, scene_.shading, b, aov_);

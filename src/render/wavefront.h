@@ -85,6 +85,10 @@ struct RenderSettings {
     // expectation, less noise from sphere lights. Off: every light sample stays on the
     // triangle the table picked (the estimator before pairs).
     bool light_pairs = true;
+    // The last bounce's rays are traced through the emitting triangles' BVH first where that
+    // gives the same image bit for bit and pays (final_rays_through_emitters in
+    // render/device_scene.h; not with aov). Off: every bounce through intersect_closest.
+    bool final_rays = true;
     // Debug (render --debug-nan): see KernelConfig::inject_nan.
     int inject_nan = 0;
     int inject_period = 97;
@@ -153,6 +157,8 @@ class Wavefront {
     const KernelConfig& config() const { return config_; }
     const std::string& options() const { return options_; }
     const SceneStats& stats() const { return scene_.stats; }
+    // The last bounce's rays go through the emitters' BVH first (RenderSettings::final_rays).
+    bool final_rays_through_emitters() const { return final_emitters_; }
     // Warnings of the scene's upload (e.g. an environment map that is not 2:1).
     const std::vector<std::string>& scene_warnings() const { return scene_.warnings; }
     // Each stage's program (build or cache load time), in build order: queue, generate,
@@ -257,6 +263,9 @@ class Wavefront {
     int passes_ = 0;
 
     std::uint64_t memory_from_ = 0;  // the ledger's first buffer id of this render
+    // The last bounce's rays go through the emitters' BVH first (RenderSettings::final_rays,
+    // final_rays_through_emitters, no feature buffers).
+    bool final_emitters_ = false;
     DeviceScene scene_;
     PathPool pool_;
     FilmBuffers film_;
