@@ -97,7 +97,9 @@ TEST_CASE("cli edges: every option out of range exits 2 with the allowed range",
                           Case{"--env-scale -1", "0..1000000"},
                           Case{"--env-scale 1e7", "0..1000000"},
                           Case{"--env-rotate 361", "-360..360"},
-                          Case{"--env-rotate -400", "-360..360"}}) {
+                          Case{"--env-rotate -400", "-360..360"},
+                          Case{"--light-pairs maybe", "expected on or off"},
+                          Case{"--final-rays maybe", "expected emitters or closest"}}) {
         Run r = run_cli(d, c.args);
         INFO(c.args << ": " << r.err);
         CHECK(r.status == 2);

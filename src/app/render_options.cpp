@@ -94,10 +94,11 @@ void add_config_options(CLI::App* c, ConfigArgs& a) {
         ->capture_default_str();
     c->add_option("--final-rays", a.final_rays,
                   "emitters: where escaped rays carry no light (black background, no "
-                  "environment), no --aov or --denoise, and at most a quarter of the triangles "
-                  "emit, the last bounce's rays are traced through the emitting triangles' own "
-                  "BVH first, and through the scene only up to the emitter they meet (at the "
-                  "last bounce only an emitter adds light); the same image bit for bit. "
+                  "environment), without --aov or --denoise, and where emitters hold at most a "
+                  "quarter of the surface area, the last bounce's rays are traced through the "
+                  "emitting triangles' own BVH first, and through the scene only up to the "
+                  "emitter they meet (at the last bounce only an emitter adds light; "
+                  "docs/design.md, \"The last bounce's rays\"); the same image bit for bit. "
                   "closest: every bounce traced through the whole scene")
         ->capture_default_str();
     c->add_flag("--adaptive", a.adaptive,
