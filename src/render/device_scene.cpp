@@ -173,7 +173,7 @@ DeviceScene DeviceScene::upload(const ocl::Device& dev, const Scene& scene, cons
     //   tangents     read only where a material has a normal map (slot >= 0): uploaded only
     //                when one has;
     //   environment  a black one (black_environment()).
-    const KernelConfig has = KernelConfig::from_scene(scene, config.estimator);
+    const KernelConfig has = KernelConfig::from_scene(scene, config.estimator, false);  // no second pair search
     AppearanceNeeds needs;
     needs.normals = config.normals;
     needs.uvs = config.textures || config.alpha_mask || config.anisotropic;

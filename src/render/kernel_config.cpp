@@ -55,7 +55,7 @@ KernelConfig KernelConfig::with_every_feature() const {
     return c;
 }
 
-KernelConfig KernelConfig::from_scene(const Scene& scene, const Estimator& estimator) {
+KernelConfig KernelConfig::from_scene(const Scene& scene, const Estimator& estimator, bool light_pairs) {
     KernelConfig c;
     c.estimator = estimator;
     c.kinds.reset();
@@ -84,7 +84,7 @@ KernelConfig KernelConfig::from_scene(const Scene& scene, const Estimator& estim
     c.normals |= c.normal_maps;
     c.env = scene.environment.has_value() && scene.environment->image >= 0;
     // Pairs matter to light sampling only (the search costs ~1 µs a light triangle).
-    if (c.nee()) {
+    if (c.nee() && light_pairs) {
         auto partner = std::make_shared<const std::vector<int>>(find_light_partners(scene));
         c.light_pairs = std::any_of(partner->begin(), partner->end(), [](int p) { return p >= 0; });
         if (c.light_pairs) c.light_partners = std::move(partner);

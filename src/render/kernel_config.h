@@ -103,8 +103,9 @@ struct KernelConfig {
     }
 
     // The material kinds, emission and appearance features the scene has; the given
-    // estimator.
-    static KernelConfig from_scene(const Scene& scene, const Estimator& estimator = {});
+    // estimator. light_pairs: search the light triangles' back-to-back partners where light
+    // sampling is compiled (false: light_pairs stays off and nothing is searched).
+    static KernelConfig from_scene(const Scene& scene, const Estimator& estimator = {}, bool light_pairs = true);
     // This configuration with every feature switch on (the generic build): all material
     // kinds, emission, shading normals, textures, normal maps, alpha cut-outs, the
     // environment, anisotropy, the thin lens and light pairs. The estimator and the debug switches stay;

@@ -54,7 +54,7 @@ RenderSettings with_implied(RenderSettings s) {
 }
 
 KernelConfig make_config(const ocl::Device& dev, const Scene& scene, const RenderSettings& s) {
-    KernelConfig c = KernelConfig::from_scene(scene, s.estimator);
+    KernelConfig c = KernelConfig::from_scene(scene, s.estimator, s.light_pairs);
     if (s.kernels == KernelSet::Generic) c = c.with_every_feature();
     // Eight paths per work-item suit a CPU's vector units; a GPU wants one per thread.
     c.lanes = s.shade_lanes && dev.info.type == "CPU";
