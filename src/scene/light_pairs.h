@@ -27,9 +27,15 @@
 
 namespace wp {
 
-// Whether triangle i is a light of next-event estimation: emissive, positive area and
-// luminance (build_light_table's rule, scene/upload.h).
-bool is_light_triangle(const Scene& scene, std::size_t i);
+// Triangle i as a light of next-event estimation: its area and power (area times the
+// emission's luminance), both 0 unless it is one — emissive, positive area and luminance,
+// finite power (build_light_table's rule and weights, scene/upload.h).
+struct LightTriangle {
+    double area = 0.0;
+    double power = 0.0;
+};
+LightTriangle light_triangle(const Scene& scene, std::size_t i);
+inline bool is_light_triangle(const Scene& scene, std::size_t i) { return light_triangle(scene, i).power > 0.0; }
 
 // partner[i] for every triangle of the scene (scene order): the light triangle paired with
 // light triangle i, or -1 (no partner, or i is no light). Mutual: partner[partner[i]] == i.

@@ -189,16 +189,12 @@ LightTable build_light_table(const Scene& scene, bool pairs, const std::vector<i
     lt.pdf_area.assign(scene.triangles.size(), 0.0f);
     std::vector<double> power, area;
     for (std::size_t i = 0; i < scene.triangles.size(); ++i) {
-        if (!is_light_triangle(scene, i)) continue;
-        const Material& m = scene.materials[scene.material_ids[i]];
-        const glm::uvec3& t = scene.triangles[i];
-        glm::dvec3 a(scene.positions[t.x]), b(scene.positions[t.y]), c(scene.positions[t.z]);
-        double ar = 0.5 * glm::length(glm::cross(b - a, c - a));
-        double lum = 0.2126 * m.emission.x + 0.7152 * m.emission.y + 0.0722 * m.emission.z;
+        const LightTriangle l = light_triangle(scene, i);
+        if (l.power <= 0.0) continue;
         lt.prims.push_back(static_cast<int>(i));
-        power.push_back(ar * lum);
-        area.push_back(ar);
-        lt.total_power += ar * lum;
+        power.push_back(l.power);
+        area.push_back(l.area);
+        lt.total_power += l.power;
     }
     double run = 0.0;
     for (std::size_t k = 0; k < power.size(); ++k) {
