@@ -162,7 +162,21 @@ TEST_CASE("memory: a render's buffers are the struct sizes times the counts", "[
         CHECK(bytes_of(m, "the BVH links") == nodes * 2 * 4);
         CHECK(bytes_of(m, "the triangles") == n * tri_bytes);
         CHECK(bytes_of(m, "the triangle ids") == n * 4);
-        CHECK(m.group("bvh") == nodes * (node_bytes + 8) + n * (tri_bytes + 4));
+        // The emitters' BVH of the last bounce (render --final-rays, on by default where it
+        // applies, as here): the same layout over the emitting triangles alone.
+        REQUIRE(wf.final_rays_through_emitters());
+        std::vector<int> lights;
+        for (std::size_t i = 0; i < n; ++i)
+            if (scene.materials[scene.material_ids[i]].emissive()) lights.push_back(static_cast<int>(i));
+        const std::size_t ne = lights.size();
+        REQUIRE(ne > 0);
+        CHECK(wf.stats().emitter_bvh_triangles == ne);
+        const std::size_t enodes = bvh::flatten_subset(scene.positions, scene.triangles, lights).nodes.size();
+        CHECK(bytes_of(m, "the emitters' BVH nodes") == enodes * node_bytes);
+        CHECK(bytes_of(m, "the emitters' BVH links") == enodes * 2 * 4);
+        CHECK(bytes_of(m, "the emitters' triangles") == ne * tri_bytes);
+        CHECK(bytes_of(m, "the emitters' triangle ids") == ne * 4);
+        CHECK(m.group("bvh") == (nodes + enodes) * (node_bytes + 8) + (n + ne) * (tri_bytes + 4));
         // Scene: the shading triangles in scene order and one material id per triangle.
         CHECK(bytes_of(m, "the shading triangles") == n * tri_bytes);
         CHECK(bytes_of(m, "the material ids") == n * 4);
