@@ -59,44 +59,26 @@ WP_INTERSECT_ENTRIES(intersect_any, wp_trace_any)
 // through the whole scene for hits at t <= t_e (tmax: the next float above t_e), which is the
 // unrestricted closest hit bit for bit: the closest hit is the smallest (t, prim) among the
 // ray's hits, and (t_e, that emitter) is one of them. Wavefront::run_wave launches it for the
-// last bounce (render --final-rays).
-#define WP_INTERSECT_FINAL_ENTRIES(name, trace)                                             \
-    WP_FN Hit name##_ray(Ray r, WP_GLOBAL const BvhNode* nodes, WP_GLOBAL const BvhLinks* links, \
-                         WP_GLOBAL const Triangle* tris, WP_GLOBAL const int* prim_ids,      \
-                         WP_GLOBAL const BvhNode* e_nodes, WP_GLOBAL const BvhLinks* e_links, \
-                         WP_GLOBAL const Triangle* e_tris, WP_GLOBAL const int* e_prim_ids,  \
-                         TraceStats* st WP_ALPHA_PARAM) {                                    \
-        Hit h = trace(r, e_nodes, e_links, e_tris, e_prim_ids, st WP_ALPHA_ARG);            \
-        if (h.prim < 0) return h;                                                           \
-        r.dir.w = as_float(as_int(h.t) + 1);                                                \
-        return trace(r, nodes, links, tris, prim_ids, st WP_ALPHA_ARG);                     \
-    }                                                                                       \
-    WP_KERNEL void name##_batch(WP_GLOBAL const Ray* rays, int count,                         \
-                               WP_GLOBAL const BvhNode* nodes, WP_GLOBAL const BvhLinks* links, \
-                               WP_GLOBAL const Triangle* tris, WP_GLOBAL const int* prim_ids,   \
-                               WP_GLOBAL const BvhNode* e_nodes, WP_GLOBAL const BvhLinks* e_links, \
-                               WP_GLOBAL const Triangle* e_tris, WP_GLOBAL const int* e_prim_ids, \
-                               WP_GLOBAL Hit* hits WP_ALPHA_KERNEL_PARAMS) {                 \
-        int i = wp_global_id();                                                             \
-        if (i >= count) return;                                                             \
-        WP_ALPHA_SETUP                                                                      \
-        TraceStats st = {0, 0};                                                             \
-        hits[i] = name##_ray(rays[i], nodes, links, tris, prim_ids, e_nodes, e_links, e_tris, \
-                             e_prim_ids, &st WP_ALPHA_ARG);                                  \
-    }                                                                                       \
-    WP_KERNEL void name(WP_GLOBAL const Ray* rays, WP_GLOBAL const int* queue_count,           \
-                       WP_GLOBAL const BvhNode* nodes, WP_GLOBAL const BvhLinks* links,       \
-                       WP_GLOBAL const Triangle* tris, WP_GLOBAL const int* prim_ids,         \
-                       WP_GLOBAL const BvhNode* e_nodes, WP_GLOBAL const BvhLinks* e_links,   \
-                       WP_GLOBAL const Triangle* e_tris, WP_GLOBAL const int* e_prim_ids,    \
-                       WP_GLOBAL Hit* hits WP_ALPHA_KERNEL_PARAMS) {                         \
-        int i = wp_global_id();                                                             \
-        if (i >= queue_count[0]) return;                                                    \
-        WP_ALPHA_SETUP                                                                      \
-        TraceStats st = {0, 0};                                                             \
-        hits[i] = name##_ray(rays[i], nodes, links, tris, prim_ids, e_nodes, e_links, e_tris, \
-                             e_prim_ids, &st WP_ALPHA_ARG);                                  \
+// last bounce (render --final-rays); BatchTracer::trace_final for the tests. One entry, the
+// stackless traversal, inlined once (a loop over the two BVHs): each entry point and each
+// inlined traversal costs a cold start PoCL's compile time.
+WP_KERNEL void intersect_final(WP_GLOBAL const Ray* rays, WP_GLOBAL const int* queue_count,
+                               WP_GLOBAL const BvhNode* nodes, WP_GLOBAL const BvhLinks* links,
+                               WP_GLOBAL const Triangle* tris, WP_GLOBAL const int* prim_ids,
+                               WP_GLOBAL const BvhNode* e_nodes, WP_GLOBAL const BvhLinks* e_links,
+                               WP_GLOBAL const Triangle* e_tris, WP_GLOBAL const int* e_prim_ids,
+                               WP_GLOBAL Hit* hits WP_ALPHA_KERNEL_PARAMS) {
+    int i = wp_global_id();
+    if (i >= queue_count[0]) return;
+    WP_ALPHA_SETUP
+    TraceStats st = {0, 0};
+    Ray r = rays[i];
+    Hit h;
+    for (int whole = 0; whole < 2; ++whole) {
+        h = wp_trace_closest(r, whole ? nodes : e_nodes, whole ? links : e_links, whole ? tris : e_tris,
+                             whole ? prim_ids : e_prim_ids, &st WP_ALPHA_ARG);
+        if (h.prim < 0) break;                // no emitter on the ray (or, whole: cannot be)
+        r.dir.w = as_float(as_int(h.t) + 1);  // hits at t <= t_e
     }
-
-WP_INTERSECT_FINAL_ENTRIES(intersect_final, wp_trace_closest)
-WP_INTERSECT_FINAL_ENTRIES(intersect_final_stack, wp_trace_closest_stack)
+    hits[i] = h;
+}

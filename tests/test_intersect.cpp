@@ -345,8 +345,8 @@ std::pair<int, int> check_final(const Mesh& mesh, const std::vector<int>& emitte
     auto want = test::brute_force(f.mesh.positions, f.mesh.triangles, rays);
     auto closest = tracer().trace(f.gpu, rays, bvh::TraceVariant::Stackless);
     int direct = 0, hidden = 0;
-    for (bool stack : {false, true}) {
-        auto got = tracer().trace_final(f.gpu, e, rays, stack);
+    {
+        auto got = tracer().trace_final(f.gpu, e, rays);
         int bad = 0;
         direct = hidden = 0;
         for (std::size_t i = 0; i < rays_n; ++i) {
@@ -363,7 +363,7 @@ std::pair<int, int> check_final(const Mesh& mesh, const std::vector<int>& emitte
                 if (got[i].prim < 0) ok = ok && got[i].t == rays[i].dir.w;
             }
             if (!ok && ++bad <= 5)
-                UNSCOPED_INFO((stack ? "stack" : "stackless") << " ray " << i << ": got prim " << got[i].prim
+                UNSCOPED_INFO("ray " << i << ": got prim " << got[i].prim
                               << " t " << got[i].t << ", closest prim " << closest[i].prim << " t "
                               << closest[i].t << (emitter ? " (emits)" : ""));
         }

@@ -285,4 +285,10 @@ TEST_CASE("render: the last bounce through the emitters' BVH gives the same imag
     engaged = true;
     (void)render(scene, render::Sampling::Mis, 1, true, &engaged, true);
     CHECK_FALSE(engaged);
+    // The stack traversal, the oracle, traces every bounce itself.
+    render::RenderSettings st;
+    st.width = 8;
+    st.height = 6;
+    st.traversal = render::Traversal::Stack;
+    CHECK_FALSE(render::Wavefront(test::device(), scene, st).final_rays_through_emitters());
 }

@@ -33,8 +33,7 @@ BatchTracer::BatchTracer(const ocl::Device& dev, bool stats, const std::string& 
     closest_ = ocl::Kernel(program_, "intersect_closest_batch", "intersect.closest");
     stack_ = ocl::Kernel(program_, "intersect_closest_stack_batch", "intersect.closest_stack");
     any_ = ocl::Kernel(program_, "intersect_any_batch", "intersect.any");
-    final_ = ocl::Kernel(program_, "intersect_final_batch", "intersect.final");
-    final_stack_ = ocl::Kernel(program_, "intersect_final_stack_batch", "intersect.final_stack");
+    final_ = ocl::Kernel(program_, "intersect_final", "intersect.final");
     dummy_stats_ = ocl::Array<TraceStats>::allocate(dev, 1, "a placeholder");
 }
 
@@ -51,17 +50,20 @@ BatchTracer::BatchTracer(const ocl::Device& dev, bool stats, const std::string& 
 }
 
 std::vector<Hit> BatchTracer::trace_final(const DeviceBvh& bvh, const DeviceBvh& emitters,
-                                          const std::vector<Ray>& rays, bool stack) {
+                                          const std::vector<Ray>& rays) {
     std::vector<Hit> hits(rays.size());
     if (rays.empty()) return hits;
     const std::size_t n = rays.size();
     ::cl::Buffer rb = dev_.create_buffer(CL_MEM_READ_ONLY, n * sizeof(Ray), "the ray batch");
     ::cl::Buffer hb = dev_.create_buffer(CL_MEM_WRITE_ONLY, n * sizeof(Hit), "the hit batch");
+    ::cl::Buffer cb = dev_.create_buffer(CL_MEM_READ_ONLY, sizeof(int), "the ray count");
+    const int count = static_cast<int>(n);
     dev_.queue.enqueueWriteBuffer(rb, CL_FALSE, 0, n * sizeof(Ray), rays.data());
-    // *_batch(rays, count, nodes, links, tris, prim_ids, e_nodes, e_links, e_tris, e_prim_ids, hits)
-    (stack ? final_stack_ : final_).launch({&dev_.queue, nullptr}, n, rb, static_cast<int>(n), bvh.nodes,
-                                           bvh.links, bvh.triangles, bvh.prim_ids, emitters.nodes,
-                                           emitters.links, emitters.triangles, emitters.prim_ids, hb);
+    dev_.queue.enqueueWriteBuffer(cb, CL_FALSE, 0, sizeof(int), &count);
+    // intersect_final(rays, queue_count, nodes, links, tris, prim_ids, e_nodes, e_links, e_tris,
+    // e_prim_ids, hits)
+    final_.launch({&dev_.queue, nullptr}, n, rb, cb, bvh.nodes, bvh.links, bvh.triangles, bvh.prim_ids,
+                  emitters.nodes, emitters.links, emitters.triangles, emitters.prim_ids, hb);
     dev_.queue.enqueueReadBuffer(hb, CL_TRUE, 0, n * sizeof(Hit), hits.data());
     return hits;
 }

@@ -46,11 +46,10 @@ class BatchTracer {
     std::vector<Hit> trace(const DeviceBvh& bvh, const std::vector<Ray>& rays, TraceVariant v,
                            std::vector<TraceStats>* stats = nullptr);
 
-    // Traces host rays as the last bounce's (kernels/intersect.cl intersect_final_batch, or
-    // intersect_final_stack_batch with stack): through `emitters` (flatten_subset of the
+    // Traces host rays as the last bounce's (kernels/intersect.cl intersect_final, the
+    // wavefront entry, with a count buffer): through `emitters` (flatten_subset of the
     // emitting triangles) first, then through `bvh` up to the emitter met.
-    std::vector<Hit> trace_final(const DeviceBvh& bvh, const DeviceBvh& emitters, const std::vector<Ray>& rays,
-                                 bool stack = false);
+    std::vector<Hit> trace_final(const DeviceBvh& bvh, const DeviceBvh& emitters, const std::vector<Ray>& rays);
 
     // Enqueues a trace of `count` rays already on the device; returns its event.
     ::cl::Event enqueue(const DeviceBvh& bvh, const ::cl::Buffer& rays, int count, const ::cl::Buffer& hits,
@@ -62,7 +61,7 @@ class BatchTracer {
     const ocl::Device& dev_;
     bool stats_;
     ocl::Program program_;
-    ocl::Kernel closest_, stack_, any_, final_, final_stack_;
+    ocl::Kernel closest_, stack_, any_, final_;
     ocl::Array<TraceStats> dummy_stats_;
 };
 

@@ -70,7 +70,8 @@ KernelConfig make_config(const ocl::Device& dev, const Scene& scene, const Rende
 Wavefront::Wavefront(ocl::Device& dev, const Scene& scene, const RenderSettings& settings)
     : dev_(dev), settings_((validate(settings), with_implied(settings))), config_(make_config(dev, scene, settings)),
       options_(config_.options()), memory_from_(dev.memory ? dev.memory->next_id() : 0),
-      final_emitters_(settings.final_rays && !settings.aov && render::final_rays_through_emitters(scene)),
+      final_emitters_(settings.final_rays && !settings.aov && settings.traversal == Traversal::Stackless &&
+                      render::final_rays_through_emitters(scene)),
       scene_(DeviceScene::upload(dev, scene, config_, settings.width, settings.height, settings.jitter,
                                  final_emitters_)) {
     // Scene, pool, film: each buffer is checked against the device before it is created

@@ -87,7 +87,9 @@ struct RenderSettings {
     bool light_pairs = true;
     // The last bounce's rays are traced through the emitting triangles' BVH first where that
     // gives the same image bit for bit and pays (final_rays_through_emitters in
-    // render/device_scene.h; not with aov). Off: every bounce through intersect_closest.
+    // render/device_scene.h; not with aov, and only with the stackless traversal: the stack
+    // traversal, the oracle, traces every bounce itself). Off: every bounce through
+    // intersect_closest.
     bool final_rays = true;
     // Debug (render --debug-nan): see KernelConfig::inject_nan.
     int inject_nan = 0;

@@ -14,8 +14,7 @@ IntersectStage::IntersectStage(const ocl::Device& dev, Traversal traversal, cons
       program_(ocl::Program::build(dev, "intersect.cl", config.trace_options())),
       kernel_(program_, traversal == Traversal::Stack ? "intersect_closest_stack" : "intersect_closest",
               "intersect.closest"),
-      final_(program_, traversal == Traversal::Stack ? "intersect_final_stack" : "intersect_final",
-             "intersect.final"),
+      final_(program_, "intersect_final", "intersect.final"),
       alpha_(config.alpha_mask) {}
 
 ::cl::Event IntersectStage::enqueue(std::size_t launch, const PathQueue& queue,

@@ -29,10 +29,10 @@ class IntersectStage {
     // `alpha`: the texture arrays of the alpha test, when built with it (else ignored).
     ::cl::Event enqueue(std::size_t launch, const PathQueue& queue, const bvh::DeviceBvh& bvh,
                         const ocl::Array<Hit>& hits, const TextureArrays* alpha = nullptr);
-    // intersect_final(_stack), the last bounce's rays where escaped rays carry no radiance
-    // (final_rays_through_emitters): each ray first through `emitters` (the emitting
-    // triangles' BVH, DeviceScene::emitter_bvh); a miss there is written as a miss, a hit as
-    // the closest hit in `bvh` (bit for bit intersect_closest's). Profiled as
+    // intersect_final (stackless), the last bounce's rays where escaped rays carry no
+    // radiance (final_rays_through_emitters): each ray first through `emitters` (the
+    // emitting triangles' BVH, DeviceScene::emitter_bvh); a miss there is written as a miss,
+    // a hit as the closest hit in `bvh` (bit for bit intersect_closest's). Profiled as
     // "intersect.final".
     ::cl::Event enqueue_final(std::size_t launch, const PathQueue& queue, const bvh::DeviceBvh& bvh,
                               const bvh::DeviceBvh& emitters, const ocl::Array<Hit>& hits,
