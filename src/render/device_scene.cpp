@@ -65,6 +65,12 @@ bvh::FlatBvh emitter_flat_bvh(const Scene& scene) {
     return bvh::flatten_subset(scene.positions, scene.triangles, ids);
 }
 
+// Escaped rays carry no light: a black background and no environment map (or one of scale
+// 0). The condition under which the emitters' BVH gives the last bounce's image exactly.
+bool escaped_rays_black(const Scene& scene) {
+    return scene.background == glm::vec3(0.0f) && (!scene.environment || scene.environment->scale == 0.0f);
+}
+
 }  // namespace
 
 double emitter_area_share(const Scene& scene) {
@@ -81,9 +87,7 @@ double emitter_area_share(const Scene& scene) {
 }
 
 bool final_rays_through_emitters(const Scene& scene) {
-    const bool black_miss = scene.background == glm::vec3(0.0f) &&
-                            (!scene.environment || scene.environment->scale == 0.0f);
-    if (!black_miss) return false;
+    if (!escaped_rays_black(scene)) return false;
     bool any = false;
     for (std::size_t i = 0; i < scene.triangles.size() && !any; ++i) any = emits(scene, i);
     return any && emitter_area_share(scene) <= kFinalRaysMaxEmitterArea;
@@ -118,8 +122,9 @@ DeviceScene DeviceScene::upload(const ocl::Device& dev, const Scene& scene, cons
         ocl::MemoryGroup group(dev, kMemoryBvh);
         d.bvh = bvh::DeviceBvh::upload(dev, flat);
         if (emitter_bvh) {
-            if (!final_rays_through_emitters(scene))
-                fail("scene upload: the emitters' BVH asked for a scene whose escaped rays shine or whose triangles mostly emit");
+            // The area share is a matter of speed; this is one of exactness.
+            if (!escaped_rays_black(scene))
+                fail("scene upload: the emitters' BVH asked for a scene whose escaped rays carry light");
             d.emitter_bvh = bvh::DeviceBvh::upload(dev, emitter_flat_bvh(scene), true);
             st.emitter_bvh_triangles = static_cast<std::size_t>(d.emitter_bvh.triangle_count);
         }

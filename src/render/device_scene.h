@@ -117,7 +117,8 @@ struct DeviceScene {
     std::vector<std::string> warnings;  // from the upload (e.g. an environment map not 2:1)
 
     // Builds the BVH and uploads; throws wp::Error for bad scenes or too little memory.
-    // emitter_bvh: also the emitters' BVH (final_rays_through_emitters must hold).
+    // emitter_bvh: also the emitters' BVH (where final_rays_through_emitters holds; a scene
+    // whose escaped rays carry light is refused).
     static DeviceScene upload(const ocl::Device& dev, const Scene& scene, const KernelConfig& config,
                               int width, int height, bool jitter, bool emitter_bvh = false);
 };
