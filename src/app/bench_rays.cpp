@@ -42,7 +42,7 @@ RaySets make_ray_sets(const Scene& scene, const std::vector<Ray>& primary, const
     std::vector<double> cdf;
     double total = 0.0;
     for (std::size_t i = 0; i < scene.triangles.size(); ++i) {
-        if (!scene.materials[scene.material_ids[i]].emissive()) continue;
+        if (!scene.triangle_emits(i)) continue;
         const auto& t = scene.triangles[i];
         glm::vec3 a = scene.positions[t.x], b = scene.positions[t.y], c = scene.positions[t.z];
         total += 0.5 * glm::length(glm::cross(b - a, c - a));

@@ -52,16 +52,12 @@ EnvUpload black_environment() {
     return upload_environment(black, t, warnings);
 }
 
-bool emits(const Scene& scene, std::size_t i) {
-    return scene.materials.at(static_cast<std::size_t>(scene.material_ids.at(i))).emissive();
-}
-
 // The emitting triangles' BVH, prim_ids naming them in scene order (the tie rule at equal t
 // and the alpha test read those).
 bvh::FlatBvh emitter_flat_bvh(const Scene& scene) {
     std::vector<int> ids;
     for (std::size_t i = 0; i < scene.triangles.size(); ++i)
-        if (emits(scene, i)) ids.push_back(static_cast<int>(i));
+        if (scene.triangle_emits(i)) ids.push_back(static_cast<int>(i));
     return bvh::flatten_subset(scene.positions, scene.triangles, ids);
 }
 
@@ -76,21 +72,18 @@ bool escaped_rays_black(const Scene& scene) {
 double emitter_area_share(const Scene& scene) {
     double all = 0.0, emitting = 0.0;
     for (std::size_t i = 0; i < scene.triangles.size(); ++i) {
-        const glm::uvec3& t = scene.triangles[i];
-        const glm::dvec3 a(scene.positions.at(t.x)), b(scene.positions.at(t.y)), c(scene.positions.at(t.z));
-        const double area = 0.5 * glm::length(glm::cross(b - a, c - a));
+        const double area = scene.triangle_area(i);
         if (!std::isfinite(area)) continue;
         all += area;
-        if (emits(scene, i)) emitting += area;
+        if (scene.triangle_emits(i)) emitting += area;
     }
     return all > 0.0 ? emitting / all : 0.0;
 }
 
 bool final_rays_through_emitters(const Scene& scene) {
-    if (!escaped_rays_black(scene)) return false;
-    bool any = false;
-    for (std::size_t i = 0; i < scene.triangles.size() && !any; ++i) any = emits(scene, i);
-    return any && emitter_area_share(scene) <= kFinalRaysMaxEmitterArea;
+    // A share above 0: some emitter can be hit (a triangle of no area never is).
+    const double share = escaped_rays_black(scene) ? emitter_area_share(scene) : 0.0;
+    return share > 0.0 && share <= kFinalRaysMaxEmitterArea;
 }
 
 DeviceScene DeviceScene::upload(const ocl::Device& dev, const Scene& scene, const KernelConfig& config,

@@ -127,11 +127,9 @@ void pair_emitter(const std::vector<LightTri>& tris, const std::vector<int>& mem
 }  // namespace
 
 LightTriangle light_triangle(const Scene& scene, std::size_t i) {
-    const Material& m = scene.materials.at(scene.material_ids.at(i));
-    if (!m.emissive()) return {};
-    const glm::uvec3& t = scene.triangles[i];
-    glm::dvec3 a(scene.positions.at(t.x)), b(scene.positions.at(t.y)), c(scene.positions.at(t.z));
-    double ar = 0.5 * glm::length(glm::cross(b - a, c - a));
+    if (!scene.triangle_emits(i)) return {};
+    const Material& m = scene.materials[scene.material_ids[i]];
+    const double ar = scene.triangle_area(i);
     double lum = 0.2126 * m.emission.x + 0.7152 * m.emission.y + 0.0722 * m.emission.z;
     if (!(ar > 0.0 && lum > 0.0 && std::isfinite(ar * lum))) return {};
     return {ar, ar * lum};

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include <glm/geometric.hpp>
 #include <glm/gtc/constants.hpp>
 #include <glm/matrix.hpp>
 #include <glm/trigonometric.hpp>
@@ -74,6 +75,12 @@ Aabb Scene::bounds() const {
     for (const auto& t : triangles)
         for (int k = 0; k < 3; ++k) b.grow(positions[t[k]]);
     return b;
+}
+
+double Scene::triangle_area(std::size_t i) const {
+    const glm::uvec3& t = triangles.at(i);
+    const glm::dvec3 a(positions.at(t.x)), b(positions.at(t.y)), c(positions.at(t.z));
+    return 0.5 * glm::length(glm::cross(b - a, c - a));
 }
 
 namespace {

@@ -185,6 +185,10 @@ struct Scene {
 
     std::size_t triangle_count() const { return triangles.size(); }
     Aabb bounds() const;
+    // Triangle i's area, computed in double (the light table's weights, the emitters' share).
+    double triangle_area(std::size_t i) const;
+    // Triangle i's material emits (Material::emissive).
+    bool triangle_emits(std::size_t i) const { return materials.at(material_ids.at(i)).emissive(); }
     // Appends a mesh with one material; returns the first new triangle's index. The
     // optional attributes are empty or one per entry of `pos`; where this scene or the mesh
     // lacks an attribute the other has, it is filled with zero normals / (0, 0) uvs /
