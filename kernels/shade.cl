@@ -250,13 +250,14 @@ WP_FN int wp_shade_path(Ray ray, PathState path, Hit hit, WP_GLOBAL const Triang
     if (front && wp_max_component(wp_xyz(m.emission)) > 0.0f) {
         float w = 1.0f;
 #if WP_HAVE_NEE
-        // The previous vertex sees this point from the ray's origin (lights.h).
-        float pdf_area = (bounce > 0 && !arrived_specular
-                              ? wp_light_pdf_area(lights.pdf_area, lights.pairs, tris, tri_frames, hit.prim,
-                                                  wp_xyz(ray.org))
-                              : lights.pdf_area[hit.prim]) *
+        // Light sampling at the previous vertex could have drawn this point (not after a
+        // Dirac lobe); it sees it from the ray's origin (lights.h).
+        const int could_sample = bounce > 0 && !arrived_specular;
+        float pdf_area = (could_sample ? wp_light_pdf_area(lights.pdf_area, lights.pairs, tris, tri_frames,
+                                                           hit.prim, wp_xyz(ray.org))
+                                       : lights.pdf_area[hit.prim]) *
                          (1.0f - wp_env_choice(lights.count, app.env.data));
-        if (bounce > 0 && !arrived_specular && pdf_area > 0.0f) {
+        if (could_sample && pdf_area > 0.0f) {
 #if WP_SAMPLING == WP_SAMPLING_MIS
             // Light density of this direction over solid angle at the previous vertex.
             float dist = hit.t * length(d);
