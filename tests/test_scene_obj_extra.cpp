@@ -371,3 +371,28 @@ TEST_CASE("obj: skin weights (`vw`) are skipped, line numbers still match the fi
     CHECK_THAT(error_of([] { wp::parse_obj("v 0 0 0\nvw 1 2\nv 1 0 0\nv 0 1 0\nf 1 2 q\n", "skin.obj"); }),
                Contains("skin.obj:5:"));
 }
+
+// tinyobjloader ends a line at "\n", "\r\n" or a lone "\r". The checks before it split at
+// "\n" only, so "v ...\rvw 1 21e39" passed as one vertex line while tinyobjloader read the
+// `vw` line and cast 21e39 to int (fuzz/regressions/obj/tinyobj-cr-line-end-vw). The checks
+// now read the lines tinyobjloader reads.
+TEST_CASE("obj: a lone carriage return ends a line, as in tinyobjloader", "[scene][obj][parser]") {
+    wp::Scene s = wp::parse_obj("v 0 0 0\rv 1 0 0\rvw 1 21e39 0 0.5\rv 0 1 0\rf 1 2 3\r", "mac.obj");
+    REQUIRE(s.triangle_count() == 1);
+    CHECK(s.positions[s.triangles[0][1]] == glm::vec3(1, 0, 0));
+    CHECK(s.positions[s.triangles[0][2]] == glm::vec3(0, 1, 0));
+    // Indices are checked per "\r" line; "\r\n" is one line ending, not two
+    CHECK_THAT(error_of([] { wp::parse_obj("v 0 0 0\rv 1 0 0\rf 1 2 3\n", "mac.obj"); }),
+               Contains("mac.obj:3: face vertex index 3 is out of range"));
+    CHECK_THAT(error_of([] { wp::parse_obj("v 0 0 0\r\nv 1 0 0\r\nv 0 1 0\r\nf 1 2 q\r\n", "dos.obj"); }),
+               Contains("dos.obj:4:"));
+    // The MTL's lines too
+    wp::MtlSource mtl = [](const std::string& name) -> std::optional<std::string> {
+        if (name == "m.mtl") return std::string("newmtl a\rKd 0.5 0.5 1e-2147483648\r");
+        return std::nullopt;
+    };
+    CHECK_THAT(error_of([&] {
+                   wp::parse_obj("mtllib m.mtl\rv 0 0 0\rv 1 0 0\rv 0 1 0\rusemtl a\rf 1 2 3\r", "m.obj", mtl);
+               }),
+               Contains("m.mtl:2: number '1e-2147483648' is out of range"));
+}

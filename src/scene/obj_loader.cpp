@@ -46,6 +46,23 @@ std::vector<std::string_view> tokens(std::string_view line) {
     return out;
 }
 
+// Calls fn(line) for every line of text, ending lines where tinyobjloader ends them: at
+// "\n", "\r\n" or a lone "\r". Every check made before tinyobjloader reads a text must see
+// its lines (a checker that split at "\n" alone read "o a\rvw 1 21e39" as an `o` line, while
+// tinyobjloader read a `vw` line; found by fuzz_obj).
+template <class Fn>
+void for_each_line(std::string_view text, Fn&& fn) {
+    std::size_t pos = 0;
+    while (pos < text.size()) {
+        std::size_t eol = text.find_first_of("\r\n", pos);
+        if (eol == std::string_view::npos) eol = text.size();
+        fn(text.substr(pos, eol - pos));
+        pos = eol + 1;
+        if (eol < text.size() && text[eol] == '\r' && pos < text.size() && text[pos] == '\n')
+            ++pos;
+    }
+}
+
 // tinyobjloader's number parser overflows a signed int (undefined behaviour) on an exponent
 // of 10 digits, e.g. "1e2147483648" (found by fuzz_obj). Every token of a line that looks
 // like a number with an exponent of more than 6 digits is refused before it gets there.
@@ -72,7 +89,7 @@ void check_exponents(const std::vector<std::string_view>& tok, const std::string
 // drops the face), without a line number. Here every `v` must have 3 finite coordinates and
 // every `f` at least 3 vertices whose position index lies in [1, vertex count]. Returns the
 // text for tinyobjloader, with trailing comments removed from geometry lines (tinyobjloader
-// rejects "f 1 2 3 # note"); line numbers are kept.
+// rejects "f 1 2 3 # note") and every line ending as "\n"; line numbers are kept.
 std::string checked_obj_text(std::string_view input, const std::string& file,
                              std::size_t& face_count) {
     std::string text;
@@ -85,12 +102,7 @@ std::string checked_obj_text(std::string_view input, const std::string& file,
     std::vector<Forward> forward;
     std::size_t vertices = 0, line_no = 0;
     face_count = 0;
-    std::size_t pos = 0;
-    while (pos < input.size()) {
-        std::size_t eol = input.find('\n', pos);
-        if (eol == std::string_view::npos) eol = input.size();
-        const std::string_view line = input.substr(pos, eol - pos);
-        pos = eol + 1;
+    for_each_line(input, [&](std::string_view line) {
         ++line_no;
         auto tok = tokens(line);
         check_exponents(tok, file, line_no);
@@ -110,7 +122,7 @@ std::string checked_obj_text(std::string_view input, const std::string& file,
             text.append(line);
         }
         text.push_back('\n');
-        if (tok.empty()) continue;
+        if (tok.empty()) return;
 
         // Vertex: 3 finite coordinates (a 4th w or RGB colours may follow)
         if (tok[0] == "v") {
@@ -134,7 +146,7 @@ std::string checked_obj_text(std::string_view input, const std::string& file,
                     fail("{}:{}: vertex {} has a coordinate '{}' beyond the float range", file,
                          line_no, vertices, tok[k]);
             }
-            continue;
+            return;
         }
 
         // Face: >= 3 vertices, position indices 1..N or -1..-N (relative to this line)
@@ -159,7 +171,7 @@ std::string checked_obj_text(std::string_view input, const std::string& file,
             }
             ++face_count;
         }
-    }
+    });
     // Positive indices may name vertices defined later in the file, but must exist
     for (const Forward& f : forward)
         if (f.index > long(vertices))
@@ -203,12 +215,7 @@ MtlLines scan_mtl(std::string_view text) {
     auto flush = [&] {
         if (have) out.kd_ke.emplace(current, flags);
     };
-    std::size_t pos = 0;
-    while (pos < text.size()) {
-        std::size_t eol = text.find('\n', pos);
-        if (eol == std::string_view::npos) eol = text.size();
-        std::string_view line = text.substr(pos, eol - pos);
-        pos = eol + 1;
+    for_each_line(text, [&](std::string_view line) {
         while (!line.empty() && (line.front() == ' ' || line.front() == '\t')) line.remove_prefix(1);
         while (!line.empty() && is_space(line.back())) line.remove_suffix(1);
         auto key = [&](std::string_view k) {
@@ -225,7 +232,7 @@ MtlLines scan_mtl(std::string_view text) {
         } else if (key("Ke")) {
             flags.second = true;
         }
-    }
+    });
     flush();
     return out;
 }
@@ -246,13 +253,10 @@ class MtlReader : public tinyobj::MaterialReader {
                                      name, kMaxMtlBytes >> 20);
             return false;
         }
-        std::size_t line_no = 0, pos = 0;
-        while (pos < text->size()) {
-            std::size_t eol = text->find('\n', pos);
-            if (eol == std::string::npos) eol = text->size();
-            check_exponents(tokens(std::string_view(*text).substr(pos, eol - pos)), name, ++line_no);
-            pos = eol + 1;
-        }
+        std::size_t line_no = 0;
+        for_each_line(*text, [&](std::string_view line) {
+            check_exponents(tokens(line), name, ++line_no);
+        });
         const MtlLines lines = scan_mtl(*text);
         const std::size_t before = materials->size();
         std::istringstream in(std::move(*text));
