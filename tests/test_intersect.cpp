@@ -338,7 +338,7 @@ namespace {
 // whose closest hit emits and those whose emitter was hidden behind another triangle.
 std::pair<int, int> check_final(const Mesh& mesh, const std::vector<int>& emitters, std::size_t rays_n) {
     Fixture f = make_fixture(mesh);
-    bvh::DeviceBvh e = bvh::DeviceBvh::upload(test::device(), bvh::flatten_subset(f.mesh.positions, f.mesh.triangles, emitters), true);
+    bvh::DeviceBvh e = bvh::DeviceBvh::upload(test::device(), bvh::flatten_subset(f.mesh.positions, f.mesh.triangles, emitters), "the emitters'");
     std::vector<char> emits(f.mesh.triangles.size(), 0);
     for (int k : emitters) emits[static_cast<std::size_t>(k)] = 1;
     auto rays = test::random_rays(rays_n, 7, f.lo, f.hi);

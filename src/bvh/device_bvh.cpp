@@ -4,13 +4,13 @@
 
 namespace wp::bvh {
 
-DeviceBvh DeviceBvh::upload(const ocl::Device& dev, const FlatBvh& flat, bool emitters) {
+DeviceBvh DeviceBvh::upload(const ocl::Device& dev, const FlatBvh& flat, std::string_view whose) {
+    auto name = [&](const char* what) { return fmt::format("{} {}", whose, what); };
     DeviceBvh d;
-    d.nodes = ocl::Array<BvhNode>::upload(dev, flat.nodes, emitters ? "the emitters' BVH nodes" : "the BVH nodes");
-    d.links = ocl::Array<BvhLinks>::upload(dev, flat.links, emitters ? "the emitters' BVH links" : "the BVH links");
-    d.triangles = ocl::Array<Triangle>::upload(dev, flat.triangles,
-                                               emitters ? "the emitters' triangles" : "the triangles");
-    d.prim_ids = ocl::Array<int>::upload(dev, flat.prim_ids, emitters ? "the emitters' triangle ids" : "the triangle ids");
+    d.nodes = ocl::Array<BvhNode>::upload(dev, flat.nodes, name("BVH nodes").c_str());
+    d.links = ocl::Array<BvhLinks>::upload(dev, flat.links, name("BVH links").c_str());
+    d.triangles = ocl::Array<Triangle>::upload(dev, flat.triangles, name("triangles").c_str());
+    d.prim_ids = ocl::Array<int>::upload(dev, flat.prim_ids, name("triangle ids").c_str());
     d.node_count = static_cast<int>(flat.nodes.size());
     d.triangle_count = static_cast<int>(flat.triangles.size());
     d.bytes = flat.nodes.size() * sizeof(BvhNode) + flat.links.size() * sizeof(BvhLinks) +

@@ -9,6 +9,7 @@
 #include <CL/opencl.hpp>
 
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "bvh/flatten.h"
@@ -29,9 +30,10 @@ struct DeviceBvh {
     int triangle_count = 0;
     std::size_t bytes = 0;
 
-    // emitters: the BVH of the emitting triangles alone (render::DeviceScene::emitter_bvh),
-    // named so in the memory report.
-    static DeviceBvh upload(const ocl::Device& dev, const FlatBvh& flat, bool emitters = false);
+    // whose: how the memory report and allocation errors name the four buffers ("the BVH
+    // nodes", ...); "the emitters'" for the BVH of the emitting triangles alone
+    // (render::DeviceScene::emitter_bvh).
+    static DeviceBvh upload(const ocl::Device& dev, const FlatBvh& flat, std::string_view whose = "the");
 };
 
 enum class TraceVariant { Stackless, Stack, Any };

@@ -118,7 +118,7 @@ DeviceScene DeviceScene::upload(const ocl::Device& dev, const Scene& scene, cons
             // The area share is a matter of speed; this is one of exactness.
             if (!escaped_rays_black(scene))
                 fail("scene upload: the emitters' BVH asked for a scene whose escaped rays carry light");
-            d.emitter_bvh = bvh::DeviceBvh::upload(dev, emitter_flat_bvh(scene), true);
+            d.emitter_bvh = bvh::DeviceBvh::upload(dev, emitter_flat_bvh(scene), "the emitters'");
             st.emitter_bvh_triangles = static_cast<std::size_t>(d.emitter_bvh.triangle_count);
         }
     }
