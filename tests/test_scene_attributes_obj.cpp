@@ -185,6 +185,28 @@ TEST_CASE("obj textures: map_Kd relative to the MTL folder, texels as written, K
             if (s.positions[tri[k]] == glm::vec3(0, 0, 0)) CHECK(s.uvs[tri[k]] == glm::vec2(0, 1));
 }
 
+// The MTL's Kd lines are found by wavepath's own scan (a map without Kd is the map alone);
+// that scan splits lines as tinyobjloader does, lone "\r" included: with "\n" alone it saw
+// one line here, missed Painted's Kd and gave it albedo 1.
+TEST_CASE("obj textures: an MTL with carriage-return line ends keeps its Kd with the map",
+          "[scene][obj][parser][attributes]") {
+    TempDir dir;
+    write_png(dir.path / "rgb.png", 2, 2, 3, kRgb2x2);
+    dir.write("m.mtl", "newmtl Painted\rKd 0.5 0.25 1\rmap_Kd rgb.png\rnewmtl Bare\rmap_Kd rgb.png\r");
+    dir.write("t.obj", "mtllib m.mtl\rv 0 0 0\rv 1 0 0\rv 0 1 0\rvt 0 0\r"
+                       "usemtl Painted\rf 1/1 2/1 3/1\rusemtl Bare\rf 1/1 3/1 2/1\r");
+    wp::Scene s = wp::load_obj(dir.path / "t.obj");
+    REQUIRE(s.triangle_count() == 2);
+    const wp::Material& p = s.materials.at(s.material_ids[0]);
+    const wp::Material& b = s.materials.at(s.material_ids[1]);
+    CHECK(p.name == "Painted");
+    CHECK(p.albedo == glm::vec3(0.5f, 0.25f, 1.0f));
+    CHECK(p.albedo_map.used());
+    CHECK(b.name == "Bare");
+    CHECK(b.albedo == glm::vec3(1.0f));
+    CHECK(b.albedo_map.used());
+}
+
 TEST_CASE("obj textures: -o and -s become the uv transform of the stored (u, 1 - v)",
           "[scene][obj][parser][attributes]") {
     TempDir dir;

@@ -373,9 +373,9 @@ TEST_CASE("obj: skin weights (`vw`) are skipped, line numbers still match the fi
 }
 
 // tinyobjloader ends a line at "\n", "\r\n" or a lone "\r". The checks before it split at
-// "\n" only, so "v ...\rvw 1 21e39" passed as one vertex line while tinyobjloader read the
-// `vw` line and cast 21e39 to int (fuzz/regressions/obj/tinyobj-cr-line-end-vw). The checks
-// now read the lines tinyobjloader reads.
+// "\n" only, so "o a\r vw 1 21e39" passed as one `o` line while tinyobjloader read the `vw`
+// line and cast 21e39 to int (fuzz/regressions/obj/tinyobj-cr-line-end-vw), and a "\r" file
+// was one line to the vertex and index checks. The checks now read tinyobjloader's lines.
 TEST_CASE("obj: a lone carriage return ends a line, as in tinyobjloader", "[scene][obj][parser]") {
     wp::Scene s = wp::parse_obj("v 0 0 0\rv 1 0 0\rvw 1 21e39 0 0.5\rv 0 1 0\rf 1 2 3\r", "mac.obj");
     REQUIRE(s.triangle_count() == 1);
