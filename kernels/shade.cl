@@ -598,8 +598,9 @@ WP_KERNEL void shade_triangle_frames(WP_GLOBAL const Triangle* tris, int count,
 // WP_SHADE_LANE_ENTRIES queue entries (types.h; work-item w: entries 32 w .. 32 w + 31) and
 // local size WP_SHADE_LANE_GROUP where KernelConfig::shade_lanes() says it models
 // the scene: the features and debug switches it has no lane code for are refused here at
-// compile time. Diffuse, mirror and glossy lanes run lane code (lanes.h); the lanes of every
-// other kind call that kind's scalar sample and eval (bsdf.h) one lane at a time, inside
+// compile time. Diffuse, mirror, glossy and rough-conductor lanes run lane code (lanes.h);
+// the lanes of every other kind call that kind's scalar sample and eval (bsdf.h) one lane at
+// a time, inside
 // the same lane code for the rest of the vertex (emission, light sampling, the normals'
 // guards, roulette, pushes).
 #if WP_HAVE_TEXTURES || WP_HAVE_NORMAL_MAPS || WP_HAVE_ENV || WP_HAVE_ANISOTROPY || WP_INJECT_NAN
@@ -610,8 +611,8 @@ WP_KERNEL void shade_triangle_frames(WP_GLOBAL const Triangle* tris, int count,
 #endif
 // Kinds without lane code: their lanes take the scalar BSDF (WP_LANES_SCALAR_KINDS).
 #define WP_LANES_SCALAR_KINDS                                                             \
-    (WP_HAVE_GLASS || WP_HAVE_CONDUCTOR || WP_HAVE_ROUGH_CONDUCTOR || WP_HAVE_ROUGH_DIELECTRIC || \
-     WP_HAVE_THIN_DIELECTRIC || WP_HAVE_PLASTIC || WP_HAVE_ROUGH_PLASTIC)
+    (WP_HAVE_GLASS || WP_HAVE_CONDUCTOR || WP_HAVE_ROUGH_DIELECTRIC || WP_HAVE_THIN_DIELECTRIC || \
+     WP_HAVE_PLASTIC || WP_HAVE_ROUGH_PLASTIC)
 #include "shared/lanes.h"
 #include "shared/rng_lanes.h"
 
@@ -790,6 +791,11 @@ WP_KERNEL void shade_surface8(WP_SHADE_SURFACE_PARAMS) {
 #if WP_LANES_SCALAR_KINDS
         int mid_a[8], dirac_a[8];  // the material; its kind is specular (wp_material_is_specular)
 #endif
+#if WP_HAVE_ROUGH_CONDUCTOR
+        // A rough conductor's η, k and flags (isotropic here: alpha_a is its width).
+        float etx[8], ety[8], etz[8], kx[8], ky[8], kz[8];
+        int rflags[8];
+#endif
 #pragma unroll
         for (int l = 0; l < 8; ++l) {
             int t = prim_a[l];
@@ -803,6 +809,14 @@ WP_KERNEL void shade_surface8(WP_SHADE_SURFACE_PARAMS) {
             dirac_a[l] = wp_material_is_specular(materials[mid]) ? -1 : 0;
 #endif
             alpha_a[l] = materials[mid].alpha;
+#if WP_HAVE_ROUGH_CONDUCTOR
+            {
+                const float4 eta = materials[mid].eta, k = materials[mid].k;
+                etx[l] = eta.x, ety[l] = eta.y, etz[l] = eta.z;
+                kx[l] = k.x, ky[l] = k.y, kz[l] = k.z;
+                rflags[l] = materials[mid].flags;
+            }
+#endif
             v0x[l] = tri.v0.x, v0y[l] = tri.v0.y, v0z[l] = tri.v0.z;
             v1x[l] = tri.v1.x, v1y[l] = tri.v1.y, v1z[l] = tri.v1.z;
             v2x[l] = tri.v2.x, v2y[l] = tri.v2.y, v2z[l] = tri.v2.z;
@@ -834,9 +848,24 @@ WP_KERNEL void shade_surface8(WP_SHADE_SURFACE_PARAMS) {
         const int8 diffuse = WP_HAVE_DIFFUSE ? kind == WP_MATERIAL_DIFFUSE : (int8)(0);
         const int8 glossy = WP_HAVE_GLOSSY ? kind == WP_MATERIAL_GLOSSY : (int8)(0);
         const int8 mirror = WP_HAVE_MIRROR ? kind == WP_MATERIAL_MIRROR : (int8)(0);
+#if WP_HAVE_ROUGH_CONDUCTOR
+        const int8 rough = kind == WP_MATERIAL_ROUGH_CONDUCTOR;
+        RoughConductor8 rc;
+        rc.albedo = albedo;
+        rc.eta = l3(vload8(0, etx), vload8(0, ety), vload8(0, etz));
+        rc.k = l3(vload8(0, kx), vload8(0, ky), vload8(0, kz));
+        rc.alpha = alpha;
+        {
+            const int8 fl = vload8(0, rflags);
+            rc.bk = (fl & WP_MF_BECKMANN) != 0;
+            rc.sep = (fl & WP_MF_SEPARABLE_G) != 0;
+        }
+#else
+        const int8 rough = (int8)(0);
+#endif
 #if WP_LANES_SCALAR_KINDS
         // The lanes of the kinds without lane code, and those of them that are Dirac only.
-        const int8 other = ~(diffuse | glossy | mirror);
+        const int8 other = ~(diffuse | glossy | mirror | rough);
         const int8 other_dirac = other & vload8(0, dirac_a);
 #else
         const int8 other_dirac = (int8)(0);
@@ -975,6 +1004,14 @@ WP_KERNEL void shade_surface8(WP_SHADE_SURFACE_PARAMS) {
                     bsdf_pdf = select(bsdf_pdf, gpdf, glossy);
                 }
 #endif
+#if WP_HAVE_ROUGH_CONDUCTOR
+                if (wp_lane_bits(rough & sampled)) {
+                    float8 rpdf;
+                    const L3 rf = wp_roughconductor_eval8(rc, dn, ns, wi, &rpdf);
+                    fcos = l3_select(fcos, rf, rough);
+                    bsdf_pdf = select(bsdf_pdf, rpdf, rough);
+                }
+#endif
 #if WP_LANES_SCALAR_KINDS
                 if (wp_lane_bits(other & sampled))
                     wp_scalar_eval8(materials, material_tables, mid_a, other & sampled, dn, ns, front, wi,
@@ -1036,6 +1073,17 @@ WP_KERNEL void shade_surface8(WP_SHADE_SURFACE_PARAMS) {
                 wo = l3_select(wo, gwo, glossy);
                 weight = l3_select(weight, gweight, glossy);
                 pdf = select(pdf, gpdf, glossy);
+            }
+#endif
+#if WP_HAVE_ROUGH_CONDUCTOR
+            if (wp_lane_bits(rough & alive)) {
+                L3 rwo, rweight;
+                float8 rpdf;
+                const int8 drawn = wp_roughconductor_sample8(rc, dn, ns, ux, uy, &rwo, &rweight, &rpdf, rough & alive);
+                alive &= ~rough | drawn;  // absorbed
+                wo = l3_select(wo, rwo, rough);
+                weight = l3_select(weight, rweight, rough);
+                pdf = select(pdf, rpdf, rough);
             }
 #endif
 #if WP_HAVE_MIRROR

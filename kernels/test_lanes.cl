@@ -191,3 +191,114 @@ WP_KERNEL void probe_misc8(int n, WP_GLOBAL const float* in, WP_GLOBAL uint* lan
     for (int j = 8 * 32 * i; j < 8 * 32 * (i + 1); ++j) lane[j] = scalar[j];
 #endif
 }
+
+// probe_roughconductor8
+// reads   per lane 24 floats: albedo xyz, alpha, d xyz (unit), ns xyz (unit), u1, u2, wi xyz
+//         (unit), use_wo (> 0: evaluate at the scalar sample's wo where it scattered), eta
+//         xyz, k xyz, beckmann (> 0), separable G (> 0)
+// writes  per lane 12 words to lane[] (wp_roughconductor_sample8 / _eval8) and scalar[]
+//         (wp_bsdf_sample_pdf / wp_bsdf_eval of an isotropic rough conductor): sample mask
+//         (-1 / 0), wo xyz, weight xyz, pdf, eval f xyz, eval pdf
+WP_KERNEL void probe_roughconductor8(int n, WP_GLOBAL const float* in, WP_GLOBAL uint* lane,
+                                     WP_GLOBAL uint* scalar) {
+    int i = wp_global_id();
+    if (i >= n) return;
+    float a[24][8];
+    WP_PROBE_READ(a, 24)
+    uint sres[8][12];
+    float wix[8], wiy[8], wiz[8];
+    int flags[8];
+    for (int l = 0; l < 8; ++l) {
+        MaterialData m;
+        m.albedo = make_float4(a[0][l], a[1][l], a[2][l], 0.0f);
+        m.emission = make_float4(0.0f, 0.0f, 0.0f, 0.0f);
+        m.kind = WP_MATERIAL_ROUGH_CONDUCTOR;
+        m.ior = 1.5f;
+        m.alpha = a[3][l];
+        m.alpha_v = a[3][l];
+        m.specular = m.emission;
+        m.eta = make_float4(a[16][l], a[17][l], a[18][l], 0.0f);
+        m.k = make_float4(a[19][l], a[20][l], a[21][l], 0.0f);
+        flags[l] = (a[22][l] > 0.0f ? WP_MF_BECKMANN : 0) | (a[23][l] > 0.0f ? WP_MF_SEPARABLE_G : 0);
+        m.flags = flags[l];
+        m.table = -1;
+        m.aniso_cos = 0.0f;
+        m.aniso_sin = 0.0f;
+        float3 d = make_float3(a[4][l], a[5][l], a[6][l]);
+        float3 ns = make_float3(a[7][l], a[8][l], a[9][l]);
+        float4 u = make_float4(a[10][l], a[11][l], 0.5f, 0.5f);
+        float3 wo = make_float3(0.0f, 0.0f, 0.0f), weight = wo;
+        float pdf = 0.0f;
+        int specular;
+        int ok = wp_bsdf_sample_pdf(m, 0, d, ns, 1, u, &wo, &weight, &pdf, &specular);
+        float3 wi = make_float3(a[12][l], a[13][l], a[14][l]);
+        if (ok && a[15][l] > 0.0f) wi = wo;
+        wix[l] = wi.x, wiy[l] = wi.y, wiz[l] = wi.z;
+        float epdf;
+        float3 f = wp_bsdf_eval(m, 0, d, ns, 1, wi, &epdf);
+        float r[12] = {0.0f, wo.x, wo.y, wo.z, weight.x, weight.y, weight.z, pdf, f.x, f.y, f.z, epdf};
+        for (int k = 0; k < 12; ++k) sres[l][k] = as_uint(r[k]);
+        sres[l][0] = ok ? 0xffffffffu : 0u;
+    }
+#if defined(WP_OPENCL)
+    RoughConductor8 m;
+    m.albedo = l3(vload8(0, a[0]), vload8(0, a[1]), vload8(0, a[2]));
+    m.alpha = vload8(0, a[3]);
+    m.eta = l3(vload8(0, a[16]), vload8(0, a[17]), vload8(0, a[18]));
+    m.k = l3(vload8(0, a[19]), vload8(0, a[20]), vload8(0, a[21]));
+    const int8 fl = vload8(0, flags);
+    m.bk = (fl & WP_MF_BECKMANN) != 0;
+    m.sep = (fl & WP_MF_SEPARABLE_G) != 0;
+    L3 d = l3(vload8(0, a[4]), vload8(0, a[5]), vload8(0, a[6]));
+    L3 ns = l3(vload8(0, a[7]), vload8(0, a[8]), vload8(0, a[9]));
+    L3 wo, weight;
+    float8 pdf;
+    int8 ok = wp_roughconductor_sample8(m, d, ns, vload8(0, a[10]), vload8(0, a[11]), &wo, &weight, &pdf,
+                                        (int8)(-1));
+    L3 wi = l3(vload8(0, wix), vload8(0, wiy), vload8(0, wiz));
+    float8 epdf;
+    L3 f = wp_roughconductor_eval8(m, d, ns, wi, &epdf);
+    float8 res[12] = {as_float8(ok), wo.x, wo.y, wo.z, weight.x, weight.y, weight.z, pdf, f.x, f.y, f.z, epdf};
+    for (int k = 0; k < 12; ++k) {
+        uint b[8];
+        vstore8(as_uint8(res[k]), 0, b);
+        for (int l = 0; l < 8; ++l) {
+            lane[(8 * i + l) * 12 + k] = b[l];
+            scalar[(8 * i + l) * 12 + k] = sres[l][k];
+        }
+    }
+#else
+    for (int l = 0; l < 8; ++l)
+        for (int k = 0; k < 12; ++k) lane[(8 * i + l) * 12 + k] = scalar[(8 * i + l) * 12 + k] = sres[l][k];
+#endif
+}
+
+// probe_mf_math8: the inline functions of microfacet.h and their lane forms.
+// reads   per lane 2 floats: x, y
+// writes  per lane 5 words to lane[] and scalar[]: exp(x), erf(x), erfinv(y), log_normal(|x|),
+//         atan2_guess(|x|, |y|) (the host compares erfinv for |y| < 1 and log for normal
+//         finite |x| only: their domains)
+WP_KERNEL void probe_mf_math8(int n, WP_GLOBAL const float* in, WP_GLOBAL uint* lane,
+                              WP_GLOBAL uint* scalar) {
+    int i = wp_global_id();
+    if (i >= n) return;
+    float a[2][8];
+    WP_PROBE_READ(a, 2)
+    for (int l = 0; l < 8; ++l) {
+        float x = a[0][l], y = a[1][l];
+        float r[5] = {wp_exp(x), wp_erf(x), wp_erfinv(y), wp_log_normal(fabs(x)), wp_atan2_guess(fabs(x), fabs(y))};
+        for (int k = 0; k < 5; ++k) scalar[(8 * i + l) * 5 + k] = as_uint(r[k]);
+    }
+#if defined(WP_OPENCL)
+    float8 x = vload8(0, a[0]), y = vload8(0, a[1]);
+    float8 res[5] = {wp_exp8(x), wp_erf8(x), wp_erfinv8(y), wp_log_normal8(fabs(x)), wp_atan2_guess8(fabs(x), fabs(y))};
+    for (int k = 0; k < 5; ++k) {
+        uint b[8];
+        vstore8(as_uint8(res[k]), 0, b);
+        for (int l = 0; l < 8; ++l) lane[(8 * i + l) * 5 + k] = b[l];
+    }
+#else
+    for (int l = 0; l < 8; ++l)
+        for (int k = 0; k < 5; ++k) lane[(8 * i + l) * 5 + k] = scalar[(8 * i + l) * 5 + k];
+#endif
+}

@@ -152,6 +152,128 @@ TEST_CASE("lanes: glossy and mirror BSDFs on eight lanes equal the scalar functi
     }
 }
 
+// wp_roughconductor_sample8 / wp_roughconductor_eval8 (lanes.h) against wp_bsdf_sample_pdf
+// and wp_bsdf_eval of an isotropic rough conductor: GGX and Beckmann, separable and
+// height-correlated G, widths 1e-3 to 1, arrival from straight on to grazing (cos 1e-6) and
+// from behind, u = 0 and 1 - 2^-24, η and k of dielectric-like to metal-like conductors
+// (t0 < 0 and > 0 in the Fresnel term). Same bits as in the glossy case.
+TEST_CASE("lanes: rough conductor BSDF on eight lanes equals the scalar functions bit for bit",
+          "[kernel][lanes]") {
+    auto& dev = wp::test::device();
+    const int items = 2048;  // 16384 lanes
+    const std::vector<float> glossy = glossy_inputs(items, 0x70c0dd);
+    wp::test::Rng rng(0xbec4a);
+    std::vector<float> in;
+    for (int q = 0; q < 8 * items; ++q) {
+        in.insert(in.end(), glossy.begin() + std::ptrdiff_t(q) * 16, glossy.begin() + std::ptrdiff_t(q + 1) * 16);
+        for (int c = 0; c < 3; ++c) in.push_back(q % 3 == 0 ? rng.uniform(0.05f, 0.3f) : rng.uniform(0.2f, 3.0f));  // eta
+        for (int c = 0; c < 3; ++c) in.push_back(q % 11 == 0 ? 0.0f : rng.uniform(0.0f, 5.0f));  // k
+        in.push_back((q / 2) % 2 ? 1.0f : 0.0f);  // Beckmann
+        in.push_back((q / 4) % 2 ? 1.0f : 0.0f);  // separable G
+    }
+    cl::Buffer b_in = upload(in);
+    const std::size_t words = std::size_t(items) * 8 * 12;
+    const char* names[12] = {"mask", "wo.x", "wo.y", "wo.z", "weight.x", "weight.y", "weight.z",
+                             "pdf", "f.x", "f.y", "f.z", "eval pdf"};
+    ocl::Program prog = ocl::Program::build(dev, "test_lanes.cl", "-D WP_HAVE_ROUGH_CONDUCTOR=1");
+    ocl::Kernel k(prog, "probe_roughconductor8", "probe.roughconductor8");
+    cl::Buffer b_lane(dev.context, CL_MEM_READ_WRITE, words * 4), b_scalar(dev.context, CL_MEM_READ_WRITE, words * 4);
+    k.launch({&dev.queue}, items, items, b_in, b_lane, b_scalar);
+    std::vector<std::uint32_t> lane = download(b_lane, words), scalar = download(b_scalar, words);
+    int bad[12] = {}, first[12], scattered[2] = {}, evaluated[2] = {};
+    std::fill(first, first + 12, -1);
+    for (int q = 0; q < 8 * items; ++q) {
+        const std::uint32_t* a = &lane[std::size_t(q) * 12];
+        const std::uint32_t* b = &scalar[std::size_t(q) * 12];
+        const bool ok = b[0] != 0;
+        const int beckmann = (q / 2) % 2;
+        scattered[beckmann] += ok;
+        evaluated[beckmann] += bits_to_float(b[11]) > 0.0f;
+        for (int w = 0; w < 12; ++w) {
+            if (w >= 1 && w <= 7 && !ok) continue;  // sample outputs: only where it scattered
+            if (a[w] != b[w]) {
+                bad[w] += 1;
+                if (first[w] < 0) first[w] = q;
+            }
+        }
+    }
+    INFO("GGX / Beckmann lanes that scattered: " << scattered[0] << " / " << scattered[1] << ", eval pdf > 0: "
+                                                 << evaluated[0] << " / " << evaluated[1] << " of " << 4 * items << " each");
+    for (int m = 0; m < 2; ++m) {
+        CHECK(scattered[m] > 4 * items / 4);
+        CHECK(evaluated[m] > 4 * items / 4);
+    }
+    for (int w = 0; w < 12; ++w) {
+        INFO(names[w] << ": " << bad[w] << " differing lanes, first " << first[w]);
+        if (first[w] >= 0) {
+            const std::size_t o = std::size_t(first[w]) * 12 + w;
+            INFO("lane " << bits_to_float(lane[o]) << " scalar " << bits_to_float(scalar[o]) << " alpha "
+                         << in[std::size_t(first[w]) * 24 + 3] << " beckmann " << (first[w] / 2) % 2);
+            CHECK(bad[w] == 0);
+        }
+    }
+}
+
+// The inline functions of microfacet.h (wp_exp, wp_erf, wp_erfinv, wp_log_normal,
+// wp_atan2_guess) against their lane forms, bit for bit, over their whole ranges: every
+// branch of each, the ends (infinities, NaN, signed zeros, denormal results of exp, erfinv
+// next to ±1).
+TEST_CASE("lanes: the inline math of microfacet.h on eight lanes equals the scalar forms",
+          "[kernel][lanes]") {
+    auto& dev = wp::test::device();
+    std::vector<float> in;
+    const float specials[] = {0.0f, -0.0f, INFINITY, -INFINITY, NAN, 1.0f, -1.0f, 4.0f, -4.0f,
+                              0x1p-149f, 1e-30f, -104.5f, -104.0f, -103.9f, -87.5f, 88.7f, 88.72f,
+                              88.8f, 89.5f, 0.70710678f, 1.0f - 0x1p-24f, -1.0f + 0x1p-24f, 0.9999f};
+    for (float x : specials)
+        for (float y : specials) in.insert(in.end(), {x, y});
+    wp::test::Rng rng(0xe4f);
+    while (in.size() < 2 * 8 * 8192) {
+        float x;
+        switch (rng.next() % 4) {
+            case 0: x = rng.uniform(-110.0f, 95.0f); break;                              // exp
+            case 1: x = rng.uniform(-6.0f, 6.0f); break;                                 // erf
+            case 2: x = std::pow(2.0f, rng.uniform(-126.0f, 2.0f)); break;               // log
+            default: x = std::copysign(std::pow(10.0f, rng.uniform(-8.0f, 0.0f)), rng.uniform(-1.0f, 1.0f));
+        }
+        float y = (rng.next() % 3 == 0) ? std::copysign(1.0f - std::pow(10.0f, rng.uniform(-7.5f, -1.0f)), rng.uniform(-1.0f, 1.0f))
+                                        : rng.uniform(-1.0f, 1.0f);
+        in.insert(in.end(), {x, y});
+    }
+    const int items = int(in.size() / 16);
+    in.resize(std::size_t(items) * 16);
+    cl::Buffer b_in = upload(in);
+    ocl::Program prog = ocl::Program::build(dev, "test_lanes.cl", "-D WP_HAVE_ROUGH_CONDUCTOR=1");
+    ocl::Kernel k(prog, "probe_mf_math8", "probe.mf_math8");
+    const std::size_t words = std::size_t(items) * 8 * 5;
+    cl::Buffer b_lane(dev.context, CL_MEM_READ_WRITE, words * 4), b_scalar(dev.context, CL_MEM_READ_WRITE, words * 4);
+    k.launch({&dev.queue}, items, items, b_in, b_lane, b_scalar);
+    std::vector<std::uint32_t> lane = download(b_lane, words), scalar = download(b_scalar, words);
+    const char* names[5] = {"exp", "erf", "erfinv", "log_normal", "atan2_guess"};
+    int bad[5] = {}, first[5] = {-1, -1, -1, -1, -1}, compared[5] = {};
+    for (int q = 0; q < 8 * items; ++q) {
+        const float x = in[std::size_t(q) * 2], y = in[std::size_t(q) * 2 + 1];
+        for (int w = 0; w < 5; ++w) {
+            if (w == 2 && !(std::fabs(y) < 1.0f)) continue;                   // erfinv: (-1, 1)
+            if (w == 3 && !std::isnormal(x)) continue;                         // log: normal x
+            const std::uint32_t a = lane[std::size_t(q) * 5 + w], b = scalar[std::size_t(q) * 5 + w];
+            ++compared[w];
+            // NaN: any NaN (the payload is not part of the contract).
+            if (a != b && !(std::isnan(bits_to_float(a)) && std::isnan(bits_to_float(b)))) {
+                ++bad[w];
+                if (first[w] < 0) first[w] = q;
+            }
+        }
+    }
+    for (int w = 0; w < 5; ++w) {
+        INFO(names[w] << ": " << bad[w] << " of " << compared[w] << " differ, first at x = "
+                      << (first[w] >= 0 ? in[std::size_t(first[w]) * 2] : 0.0f) << ", y = "
+                      << (first[w] >= 0 ? in[std::size_t(first[w]) * 2 + 1] : 0.0f));
+        CHECK(compared[w] > 10000);
+        CHECK(bad[w] == 0);
+    }
+}
+
 // The builtins the lane code replaces: l3_normalize against normalize (random, tiny and
 // huge vectors), l3_cross against cross, and wp_pow8 against pow; whether pow(float8)
 // matches the scalar pow lane by lane is reported, not required (wp_pow8 exists because

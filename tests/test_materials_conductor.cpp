@@ -636,7 +636,7 @@ TEST_CASE("conductor: white furnace of the rough conductor (F = 1) and its energ
 // The inline replacements for library calls on the Beckmann path (microfacet.h) against
 // double precision (std::erf, std::log, std::atan2) over dense sweeps; the bounds are the
 // ones the comments in microfacet.h state.
-TEST_CASE("conductor: inline erf log atan2 erfinv against double", "[unit][conductor]") {
+TEST_CASE("conductor: inline erf log exp atan2 erfinv against double", "[unit][conductor]") {
     double erf_abs = 0, erf_rel = 0;
     for (long i = -2000000; i <= 2000000; ++i) {  // [-6, 6] in steps of 3e-6
         float x = float(6.0 * double(i) / 2000000.0);
@@ -675,6 +675,32 @@ TEST_CASE("conductor: inline erf log atan2 erfinv against double", "[unit][condu
     INFO("wp_log_normal: max rel " << log_rel);
     CHECK(log_rel < 1e-7);
     CHECK(wp_log_normal(1.0f) == 0.0f);
+
+    // e^x: every 17th float in [-87.3, 88.7] (normal results), relative error; the denormal
+    // range to 1 ulp of the smallest denormal; the ends.
+    double exp_rel = 0, exp_denormal = 0;
+    for (float x = -87.3f; x <= 88.7f; x = std::nextafter(x, 100.0f)) {
+        double r = std::exp(double(x));
+        exp_rel = std::max(exp_rel, std::abs(double(wp_exp(x)) - r) / r);
+        for (int k = 0; k < 16 && x <= 88.7f; ++k) x = std::nextafter(x, 100.0f);
+    }
+    for (float x = -104.0f; x < -87.3f; x += 1e-4f) {
+        // Below the normal range: the polynomial's error plus one rounding to a denormal
+        // (half of 2^-149), in units of 2^-149.
+        double r = std::exp(double(x));
+        double e = (std::abs(double(wp_exp(x)) - r) - 2e-7 * r) / std::ldexp(1.0, -149);
+        exp_denormal = std::max(exp_denormal, e);
+    }
+    INFO("wp_exp: max rel " << exp_rel << ", denormal range: max error beyond the polynomial's "
+                            << exp_denormal << " x 2^-149");
+    CHECK(exp_rel < 2e-7);
+    CHECK(exp_denormal <= 0.5);
+    CHECK(wp_exp(0.0f) == 1.0f);
+    CHECK(wp_exp(-104.5f) == 0.0f);
+    CHECK(wp_exp(-INFINITY) == 0.0f);
+    CHECK(std::isinf(wp_exp(88.8f)));
+    CHECK(std::isinf(wp_exp(INFINITY)));
+    CHECK(std::isnan(wp_exp(NAN)));
 
     double atan_abs = 0;  // the first quadrant, (y, x) = (sin t, cos t) and scaled
     for (int i = 0; i <= 1000000; ++i) {

@@ -20,6 +20,7 @@
 #include "shading.h"
 #include "estimator.h"
 #include "sampling.h"
+#include "microfacet.h"
 
 #ifndef WP_GLOSSY_MODEL
 #define WP_GLOSSY_MODEL WP_DEFAULT_GLOSSY_MODEL
@@ -318,6 +319,253 @@ WP_FN L3 wp_glossy_eval8(L3 albedo, float8 alpha, L3 d, L3 ns, L3 wi, float8 cos
     float8 s = wp_ggx_d8(h, alpha) * wp_ggx_g2_8(vo, vi, alpha) / (4.0f * vo.z);
     L3 f = l3_scale(wp_fresnel_schlick8(albedo, l3_dot(vo, h)), s);
 #endif
+    *pdf = select(zero, p, live);
+    return l3_select(l3(zero, zero, zero), f, live);
+}
+
+
+// microfacet.h per lane, for isotropic distributions (α_x = α_y = alpha: the lane kernel never
+// runs with anisotropy, KernelConfig::shade_lanes), so the axes' rotation is the identity.
+// bk: the lanes whose distribution is Beckmann (else GGX); sep: separable G (else
+// height-correlated). Each is its scalar twin's operations in the same order, both branches
+// computed and selected.
+WP_FN float8 wp_exp8(float8 x) {
+    float8 xc = clamp(x, -104.0f, 89.0f);
+    float8 n = floor(xc * 1.44269504088896341f + 0.5f);
+    float8 r = xc - n * 0.693359375f;
+    r = r - n * -2.12194440e-4f;
+    float8 p = 1.9875691500e-4f;
+    p = 1.3981999507e-3f + p * r;
+    p = 8.3334519073e-3f + p * r;
+    p = 4.1665795894e-2f + p * r;
+    p = 1.6666665459e-1f + p * r;
+    p = 5.0000001201e-1f + p * r;
+    float8 y = p * (r * r) + r + 1.0f;
+    int8 ni = convert_int8(n);
+    int8 n1 = ni >> 1, n2 = ni - n1;
+    return select(y * as_float8((n1 + 127) << 23) * as_float8((n2 + 127) << 23), x, isnan(x));
+}
+WP_FN float8 wp_erf8(float8 x) {
+    float8 ax = fabs(x);
+    float8 u = 2.0f * ax * ax - 1.0f;
+    float8 p = 1.23060545e-06f;
+    p = -1.76690683e-05f + p * u;
+    p = 0.000217513545f + p * u;
+    p = -0.0022854195f + p * u;
+    p = 0.0198524967f + p * u;
+    p = -0.1405361f + p * u;
+    p = 0.965468764f + p * u;
+    float8 near = ax * p;
+    u = (ax - 2.5f) * (2.0f / 3.0f);
+    p = 0.000258006097f;
+    p = 9.49723835e-05f + p * u;
+    p = -0.00203279871f + p * u;
+    p = 0.00154291105f + p * u;
+    p = 0.00466702878f + p * u;
+    p = -0.0104118455f + p * u;
+    p = 0.00663786428f + p * u;
+    p = 0.00957930554f + p * u;
+    p = -0.0318684503f + p * u;
+    p = 0.0463895835f + p * u;
+    p = -0.0436514802f + p * u;
+    p = 0.0281874072f + p * u;
+    p = -0.01225283f + p * u;
+    p = 0.00326727028f + p * u;
+    p = 0.999593019f + p * u;
+    float8 far = select(ax, (float8)(1.0f), ax >= 4.0f);  // NaN: NaN
+    float8 r = select(select(far, p, ax < 4.0f), near, ax < 1.0f);
+    return copysign(r, x);
+}
+WP_FN float8 wp_log_normal8(float8 x) {
+    int8 i = as_int8(x);
+    int8 e = ((i >> 23) & 0xff) - 126;
+    float8 m = as_float8((i & 0x007fffff) | 0x3f000000);
+    int8 low = m < 0.70710678f;
+    e = e + low;  // -1 where low
+    m = select(m - 1.0f, m + m - 1.0f, low);
+    float8 z = m * m;
+    float8 y = 7.0376836292e-2f;
+    y = -1.1514610310e-1f + y * m;
+    y = 1.1676998740e-1f + y * m;
+    y = -1.2420140846e-1f + y * m;
+    y = 1.4249322787e-1f + y * m;
+    y = -1.6668057665e-1f + y * m;
+    y = 2.0000714765e-1f + y * m;
+    y = -2.4999993993e-1f + y * m;
+    y = 3.3333331174e-1f + y * m;
+    y = y * m * z;
+    float8 fe = convert_float8(e);
+    y += -2.12194440e-4f * fe;
+    y += -0.5f * z;
+    return (m + y) + 0.693359375f * fe;
+}
+WP_FN float8 wp_erfinv8(float8 x) {
+    float8 w = -wp_log_normal8(max((1.0f - x) * (1.0f + x), 0x1p-24f));
+    float8 v = w - 2.5f;
+    float8 p = 2.81022636e-08f;
+    p = 3.43273939e-07f + p * v;
+    p = -3.5233877e-06f + p * v;
+    p = -4.39150654e-06f + p * v;
+    p = 0.00021858087f + p * v;
+    p = -0.00125372503f + p * v;
+    p = -0.00417768164f + p * v;
+    p = 0.246640727f + p * v;
+    p = 1.50140941f + p * v;
+    v = sqrt(w) - 3.0f;
+    float8 q = -0.000200214257f;
+    q = 0.000100950558f + q * v;
+    q = 0.00134934322f + q * v;
+    q = -0.00367342844f + q * v;
+    q = 0.00573950773f + q * v;
+    q = -0.0076224613f + q * v;
+    q = 0.00943887047f + q * v;
+    q = 1.00167406f + q * v;
+    q = 2.83297682f + q * v;
+    return select(q, p, w < 5.0f) * x;
+}
+WP_FN float8 wp_atan2_guess8(float8 y, float8 x) {
+    float8 lo = min(x, y), hi = max(x, y);
+    float8 z = select((float8)(0.0f), lo / hi, hi > 0.0f), z2 = z * z;
+    float8 r = z * (0.99997726f + z2 * (-0.33262347f + z2 * (0.19354346f +
+                    z2 * (-0.11643287f + z2 * (0.05265332f - 0.01172120f * z2)))));
+    return select(r, 1.5707963267948966f - r, y > x);
+}
+// wp_beckmann_sample_slope11 for the lanes of `need` (the others: anything): the Newton
+// iteration runs until every such lane has converged or made its ten steps, each lane
+// freezing where its scalar loop would break.
+WP_FN void wp_beckmann_sample_slope11_8(float8 cos_theta, float8 sin_theta, float8 u1, float8 u2,
+                                       int8 need, float8* sx, float8* sy) {
+    const float inv_sqrt_pi = 0.56418958354775628f;
+    float8 tan_theta = sin_theta / cos_theta, cot_theta = cos_theta / sin_theta;
+    float8 a = -1.0f, c = wp_erf8(cot_theta);
+    float8 ux = max(u1, 1e-6f);
+    float8 theta = wp_atan2_guess8(sin_theta, cos_theta);
+    float8 fit = 1.0f + theta * (-0.876f + theta * (0.4265f - 0.0594f * theta));
+    float8 b = c - (1.0f + c) * wp_exp8(fit * wp_log_normal8(1.0f - ux));
+    float8 norm = 1.0f / (1.0f + c + inv_sqrt_pi * tan_theta * wp_exp8(-cot_theta * cot_theta));
+    int8 active = need;
+    for (int it = 0; it < 10 && wp_lane_bits(active); ++it) {
+        b = select(b, 0.5f * (a + c), active & ~((b >= a) & (b <= c)));
+        float8 x = wp_erfinv8(b);
+        float8 value = norm * (1.0f + b + inv_sqrt_pi * tan_theta * wp_exp8(-x * x)) - ux;
+        active &= ~(fabs(value) < 1e-5f);
+        float8 derivative = norm * (1.0f - x * tan_theta);
+        const int8 above = value > 0.0f;
+        c = select(c, b, active & above);
+        a = select(a, b, active & ~above);
+        b = select(b, b - value / derivative, active);
+    }
+    *sx = wp_erfinv8(b);
+    *sy = wp_erfinv8(2.0f * max(u2, 1e-6f) - 1.0f);
+}
+WP_FN float8 wp_mf_d8(L3 h, float8 alpha, int8 bk) {
+    float8 x = h.x / alpha, y = h.y / alpha;
+    float8 z2 = h.z * h.z;
+    float8 ex = wp_exp8(-(x * x + y * y) / z2);
+    float8 db = select((float8)(0.0f), ex / (WP_PI * alpha * alpha * z2 * z2), ex > 0.0f);
+    float8 t = x * x + y * y + z2;
+    float8 dg = 1.0f / (WP_PI * alpha * alpha * t * t);
+    return select((float8)(0.0f), select(dg, db, bk), h.z > 0.0f);
+}
+WP_FN float8 wp_mf_lambda8(L3 w, float8 alpha, int8 bk) {
+    float8 px = alpha * w.x, py = alpha * w.y;
+    float8 t2 = (px * px + py * py) / (w.z * w.z);
+    float8 r = 0.5f * (-1.0f + sqrt(1.0f + t2));
+    if (wp_lane_bits(bk)) {
+        float8 a = 1.0f / sqrt(t2);
+        float8 lb = 0.5f * (wp_erf8(a) - 1.0f) + wp_exp8(-a * a) / (2.0f * a * 1.7724538509055160f);
+        r = select(r, select((float8)(0.0f), lb, t2 >= 0.0625f), bk);
+    }
+    return select((float8)(FLT_MAX), r, w.z != 0.0f);
+}
+// wp_mf_g_lo: G(wo, wi) given Λ(wo).
+WP_FN float8 wp_mf_g_lo8(float8 lambda_o, L3 wi, float8 alpha, int8 bk, int8 sep) {
+    float8 li = wp_mf_lambda8(wi, alpha, bk);
+    float8 separable = (1.0f / (1.0f + lambda_o)) * select((float8)(0.0f), 1.0f / (1.0f + li), wi.z > 0.0f);
+    return select(1.0f / (1.0f + lambda_o + li), separable, sep);
+}
+WP_FN float8 wp_mf_pdf_vndf_gd8(float8 g1, L3 w, L3 h, float8 d) {
+    return g1 * max(0.0f, l3_dot(w, h)) * d / w.z;
+}
+// wp_mf_sample_vndf for the lanes of `need`.
+WP_FN L3 wp_mf_sample_vndf8(L3 w, float8 alpha, int8 bk, float8 u1, float8 u2, int8 need) {
+    L3 h = wp_ggx_sample_vndf8(w, alpha, u1, u2);  // GGX: Heitz 2018 (the glossy kind's)
+    if (wp_lane_bits(bk & need)) {
+        L3 wh = l3_normalize(l3(alpha * w.x, alpha * w.y, w.z));
+        float8 sin_t = sqrt(wh.x * wh.x + wh.y * wh.y);
+        float8 cphi = select((float8)(1.0f), wh.x / sin_t, sin_t > 0.0f);
+        float8 sphi = select((float8)(0.0f), wh.y / sin_t, sin_t > 0.0f);
+        float8 s_x, s_y;
+        wp_beckmann_sample_slope11_8(wh.z, sin_t, u1, u2, bk & need, &s_x, &s_y);
+        float8 sx = (cphi * s_x - sphi * s_y) * alpha;
+        float8 sy = (sphi * s_x + cphi * s_y) * alpha;
+        h = l3_select(h, l3_normalize(l3(-sx, -sy, (float8)(1.0f))), bk);
+    }
+    return h;
+}
+WP_FN float8 wp_fresnel_conductor1_8(float8 cos_i, float8 eta, float8 k) {
+    float8 c = clamp(cos_i, 0.0f, 1.0f);
+    float8 c2 = c * c, s2 = 1.0f - c2;
+    float8 eta2 = eta * eta, k2 = k * k;
+    float8 t0 = eta2 - k2 - s2;
+    float8 a2b2 = sqrt(t0 * t0 + 4.0f * eta2 * k2);
+    float8 t1 = a2b2 + c2;
+    float8 ek = fabs(eta * k);
+    float8 a = select(select((float8)(0.0f), ek / sqrt(0.5f * (a2b2 - t0)), ek > 0.0f),
+                      sqrt(0.5f * (a2b2 + t0)), t0 >= 0.0f);
+    float8 t2 = 2.0f * c * a;
+    float8 rs = select((float8)(1.0f), (t1 - t2) / (t1 + t2), t1 + t2 > 0.0f);
+    float8 t3 = c2 * a2b2 + s2 * s2;
+    float8 t4 = t2 * s2;
+    float8 rp = rs * (t3 - t4) / (t3 + t4);
+    return 0.5f * (rp + rs);
+}
+WP_FN L3 wp_fresnel_conductor8(float8 cos_i, L3 eta, L3 k) {
+    return l3(wp_fresnel_conductor1_8(cos_i, eta.x, k.x), wp_fresnel_conductor1_8(cos_i, eta.y, k.y),
+              wp_fresnel_conductor1_8(cos_i, eta.z, k.z));
+}
+
+// materials/roughconductor.h per lane (isotropic). A lane's parameters: albedo, η and k of
+// its conductor, its width alpha, Beckmann (bk) and separable G (sep) masks.
+typedef struct RoughConductor8 {
+    L3 albedo, eta, k;
+    float8 alpha;
+    int8 bk, sep;
+} RoughConductor8;
+
+// wp_roughconductor_sample per lane: the mask of the lanes where it returns 1 (there *wo,
+// *weight and *pdf hold its outputs); `need`: the lanes whose results are used.
+WP_FN int8 wp_roughconductor_sample8(RoughConductor8 m, L3 d, L3 ns, float8 u1, float8 u2, L3* wo,
+                                     L3* weight, float8* pdf, int8 need) {
+    L3 vo = wp_to_local8(l3_neg(d), ns);
+    float8 lo = wp_mf_lambda8(vo, m.alpha, m.bk);
+    float8 g1o = 1.0f / (1.0f + lo);
+    int8 ok = (vo.z > 0.0f) & (g1o > 0.0f);
+    L3 h = wp_mf_sample_vndf8(vo, m.alpha, m.bk, u1, u2, need & ok);
+    float8 oh = l3_dot(vo, h);
+    ok &= oh > 0.0f;
+    L3 vi = l3_sub(l3_scale(h, 2.0f * oh), vo);
+    ok &= vi.z > 0.0f;
+    *wo = wp_to_world8(vi, ns);
+    L3 f = wp_fresnel_conductor8(oh, m.eta, m.k);
+    *weight = l3_scale(l3_mul(m.albedo, f), wp_mf_g_lo8(lo, vi, m.alpha, m.bk, m.sep) / g1o);
+    *pdf = wp_mf_pdf_vndf_gd8(g1o, vo, h, wp_mf_d8(h, m.alpha, m.bk)) / (4.0f * oh);
+    return ok;
+}
+
+// wp_bsdf_eval of a rough conductor per lane: f cos and *pdf, zero and 0 where it returns
+// zero.
+WP_FN L3 wp_roughconductor_eval8(RoughConductor8 m, L3 d, L3 ns, L3 wi, float8* pdf) {
+    const float8 zero = (float8)(0.0f);
+    L3 vo = wp_to_local8(l3_neg(d), ns);
+    L3 vi = wp_to_local8(wi, ns);
+    int8 live = (vo.z > 0.0f) & (vi.z > 0.0f);
+    L3 h = l3_normalize(l3_add(vo, vi));
+    float8 oh = l3_dot(vo, h);
+    float8 lo = wp_mf_lambda8(vo, m.alpha, m.bk), d_h = wp_mf_d8(h, m.alpha, m.bk);
+    float8 p = wp_mf_pdf_vndf_gd8(1.0f / (1.0f + lo), vo, h, d_h) / (4.0f * oh);
+    float8 s = d_h * wp_mf_g_lo8(lo, vi, m.alpha, m.bk, m.sep) / (4.0f * vo.z);
+    L3 f = l3_scale(l3_mul(m.albedo, wp_fresnel_conductor8(oh, m.eta, m.k)), s);
     *pdf = select(zero, p, live);
     return l3_select(l3(zero, zero, zero), f, live);
 }
