@@ -14,6 +14,48 @@
     for (int l = 0; l < 8; ++l)                                 \
         for (int k = 0; k < (nin); ++k) a[k][l] = in[(8 * i + l) * (nin) + k];
 
+// An isotropic material of `kind` with albedo a[0..2][l] and width a[3][l] for lane l, every
+// other field neutral (η 0, k 0, no flags, no table).
+WP_FN MaterialData wp_probe_material(int kind, float a[][8], int l) {
+    MaterialData m;
+    m.albedo = make_float4(a[0][l], a[1][l], a[2][l], 0.0f);
+    m.emission = make_float4(0.0f, 0.0f, 0.0f, 0.0f);
+    m.kind = kind;
+    m.ior = 1.5f;
+    m.alpha = a[3][l];
+    m.alpha_v = a[3][l];
+    m.specular = m.emission;
+    m.eta = m.emission;
+    m.k = m.emission;
+    m.flags = 0;
+    m.table = -1;
+    m.aniso_cos = 0.0f;
+    m.aniso_sin = 0.0f;
+    return m;
+}
+
+// Lane l's scalar sample (wp_bsdf_sample_pdf) and eval (wp_bsdf_eval, at the sample's wo
+// where use_wo > 0 and it scattered, else at wi) of m: r[0] the sample mask (-1 / 0 as
+// bits), r[1..7] wo, weight, pdf, r[8..11] f cos and the eval's pdf; *wi_out the eval's
+// direction. a[4..15][l]: d, ns, u1, u2, wi, use_wo as probe_glossy8 reads them.
+WP_FN void wp_probe_scalar_bsdf(MaterialData m, float a[][8], int l, uint* r, float3* wi_out) {
+    float3 d = make_float3(a[4][l], a[5][l], a[6][l]);
+    float3 ns = make_float3(a[7][l], a[8][l], a[9][l]);
+    float4 u = make_float4(a[10][l], a[11][l], 0.5f, 0.5f);
+    float3 wo = make_float3(0.0f, 0.0f, 0.0f), weight = wo;
+    float pdf = 0.0f;
+    int specular;
+    int ok = wp_bsdf_sample_pdf(m, 0, d, ns, 1, u, &wo, &weight, &pdf, &specular);
+    float3 wi = make_float3(a[12][l], a[13][l], a[14][l]);
+    if (ok && a[15][l] > 0.0f) wi = wo;
+    *wi_out = wi;
+    float epdf;
+    float3 f = wp_bsdf_eval(m, 0, d, ns, 1, wi, &epdf);
+    float v[12] = {0.0f, wo.x, wo.y, wo.z, weight.x, weight.y, weight.z, pdf, f.x, f.y, f.z, epdf};
+    for (int k = 0; k < 12; ++k) r[k] = as_uint(v[k]);
+    r[0] = ok ? 0xffffffffu : 0u;
+}
+
 // probe_glossy8
 // reads   per lane 16 floats: albedo xyz, alpha, d xyz (unit), ns xyz (unit), u1, u2,
 //         wi xyz (unit), use_wo (> 0: evaluate at the scalar sample's wo where it scattered)
@@ -30,41 +72,21 @@ WP_KERNEL void probe_glossy8(int n, WP_GLOBAL const float* in, WP_GLOBAL uint* l
     uint sres[8][16];
     float wix[8], wiy[8], wiz[8];
     for (int l = 0; l < 8; ++l) {
-        MaterialData m;
-        m.albedo = make_float4(a[0][l], a[1][l], a[2][l], 0.0f);
-        m.emission = make_float4(0.0f, 0.0f, 0.0f, 0.0f);
-        m.kind = WP_MATERIAL_GLOSSY;
-        m.ior = 1.5f;
-        m.alpha = a[3][l];
-        m.alpha_v = a[3][l];
-        m.specular = m.emission;
-        m.eta = m.emission;
-        m.k = m.emission;
-        m.flags = 0;
-        m.table = -1;
-        m.aniso_cos = 0.0f;
-        m.aniso_sin = 0.0f;
+        MaterialData m = wp_probe_material(WP_MATERIAL_GLOSSY, a, l);
+        float3 wi;
+        wp_probe_scalar_bsdf(m, a, l, sres[l], &wi);
+        wix[l] = wi.x, wiy[l] = wi.y, wiz[l] = wi.z;
         float3 d = make_float3(a[4][l], a[5][l], a[6][l]);
         float3 ns = make_float3(a[7][l], a[8][l], a[9][l]);
         float4 u = make_float4(a[10][l], a[11][l], 0.5f, 0.5f);
-        float3 wo = make_float3(0.0f, 0.0f, 0.0f), weight = wo;
-        float pdf = 0.0f;
         int specular;
-        int ok = wp_bsdf_sample_pdf(m, 0, d, ns, 1, u, &wo, &weight, &pdf, &specular);
-        float3 wi = make_float3(a[12][l], a[13][l], a[14][l]);
-        if (ok && a[15][l] > 0.0f) wi = wo;
-        wix[l] = wi.x, wiy[l] = wi.y, wiz[l] = wi.z;
-        float epdf;
-        float3 f = wp_bsdf_eval(m, 0, d, ns, 1, wi, &epdf);
         MaterialData mm = m;
         mm.kind = WP_MATERIAL_MIRROR;
         float3 mwo, mweight;
         float mpdf;
         wp_bsdf_sample_pdf(mm, 0, d, ns, 1, u, &mwo, &mweight, &mpdf, &specular);
-        float r[16] = {ok ? -1.0f : 0.0f, wo.x, wo.y, wo.z, weight.x, weight.y, weight.z, pdf,
-                       f.x, f.y, f.z, epdf, mwo.x, mwo.y, mwo.z, 0.0f};
-        for (int k = 0; k < 16; ++k) sres[l][k] = as_uint(r[k]);
-        sres[l][0] = ok ? 0xffffffffu : 0u;
+        float r[4] = {mwo.x, mwo.y, mwo.z, 0.0f};  // words 12..15 after the scalar BSDF's 12
+        for (int k = 0; k < 4; ++k) sres[l][12 + k] = as_uint(r[k]);
     }
 #if defined(WP_OPENCL)
     L3 albedo = l3(vload8(0, a[0]), vload8(0, a[1]), vload8(0, a[2]));
@@ -209,36 +231,14 @@ WP_KERNEL void probe_roughconductor8(int n, WP_GLOBAL const float* in, WP_GLOBAL
     float wix[8], wiy[8], wiz[8];
     int flags[8];
     for (int l = 0; l < 8; ++l) {
-        MaterialData m;
-        m.albedo = make_float4(a[0][l], a[1][l], a[2][l], 0.0f);
-        m.emission = make_float4(0.0f, 0.0f, 0.0f, 0.0f);
-        m.kind = WP_MATERIAL_ROUGH_CONDUCTOR;
-        m.ior = 1.5f;
-        m.alpha = a[3][l];
-        m.alpha_v = a[3][l];
-        m.specular = m.emission;
+        MaterialData m = wp_probe_material(WP_MATERIAL_ROUGH_CONDUCTOR, a, l);
         m.eta = make_float4(a[16][l], a[17][l], a[18][l], 0.0f);
         m.k = make_float4(a[19][l], a[20][l], a[21][l], 0.0f);
         flags[l] = (a[22][l] > 0.0f ? WP_MF_BECKMANN : 0) | (a[23][l] > 0.0f ? WP_MF_SEPARABLE_G : 0);
         m.flags = flags[l];
-        m.table = -1;
-        m.aniso_cos = 0.0f;
-        m.aniso_sin = 0.0f;
-        float3 d = make_float3(a[4][l], a[5][l], a[6][l]);
-        float3 ns = make_float3(a[7][l], a[8][l], a[9][l]);
-        float4 u = make_float4(a[10][l], a[11][l], 0.5f, 0.5f);
-        float3 wo = make_float3(0.0f, 0.0f, 0.0f), weight = wo;
-        float pdf = 0.0f;
-        int specular;
-        int ok = wp_bsdf_sample_pdf(m, 0, d, ns, 1, u, &wo, &weight, &pdf, &specular);
-        float3 wi = make_float3(a[12][l], a[13][l], a[14][l]);
-        if (ok && a[15][l] > 0.0f) wi = wo;
+        float3 wi;
+        wp_probe_scalar_bsdf(m, a, l, sres[l], &wi);
         wix[l] = wi.x, wiy[l] = wi.y, wiz[l] = wi.z;
-        float epdf;
-        float3 f = wp_bsdf_eval(m, 0, d, ns, 1, wi, &epdf);
-        float r[12] = {0.0f, wo.x, wo.y, wo.z, weight.x, weight.y, weight.z, pdf, f.x, f.y, f.z, epdf};
-        for (int k = 0; k < 12; ++k) sres[l][k] = as_uint(r[k]);
-        sres[l][0] = ok ? 0xffffffffu : 0u;
     }
 #if defined(WP_OPENCL)
     RoughConductor8 m;
