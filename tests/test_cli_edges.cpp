@@ -11,6 +11,7 @@
 #include <unistd.h>
 
 #include <atomic>
+#include <cstdio>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
@@ -168,6 +169,45 @@ TEST_CASE("cli edges: -o /proc/out.png fails before loading or rendering", "[cli
     CHECK(p.status == 1);
     CHECK(has(p.err, "/proc/prof.json"));
     CHECK(d.empty_of_images());
+}
+
+// The image codec (OpenImageIO) is a module the binary loads on first use (image/codec.h):
+// the binary itself does not link OpenImageIO, a command that writes no image never loads it,
+// and a render whose module is missing fails before rendering, naming it.
+TEST_CASE("cli edges: the image module is loaded on first use, and its absence is named before rendering",
+          "[cli][render]") {
+    // The binary's own libraries: no OpenImageIO among them.
+    std::string libs;
+    if (FILE* p = ::popen("ldd '" WP_CLI_PATH "' 2>/dev/null", "r")) {
+        char buf[512];
+        while (std::fgets(buf, sizeof buf, p)) libs += buf;
+        ::pclose(p);
+    }
+    if (libs.empty()) {
+        WARN("ldd gave nothing: the link check is skipped");
+    } else {
+        INFO(libs);
+        CHECK(has(libs, "libOpenCL"));  // ldd did list the binary's libraries
+        CHECK_FALSE(has(libs, "OpenImageIO"));
+    }
+    TempDir d;
+    const std::string missing = (d.path / "no-such-dir" / "libwavepath_oiio.so").string();
+    ::setenv("WP_IMAGE_MODULE", missing.c_str(), 1);
+    FullRun v = run_wavepath(d, "--version");
+    FullRun r = run_wavepath(d, "render --size 8x6 --spp 1 -o out.exr");
+    ::unsetenv("WP_IMAGE_MODULE");
+    CHECK(v.status == 0);  // never loads it
+    INFO(r.err);
+    CHECK(r.status == 1);
+    CHECK(has(r.err, "wavepath: error: cannot load the image module libwavepath_oiio.so"));
+    CHECK(has(r.err, missing + ": no such file"));
+    CHECK_FALSE(has(r.err, "spp"));  // before rendering: no progress line, no summary
+    CHECK(count(r.err, "wavepath: error:") == 1);
+    CHECK(d.empty_of_images());
+    // With the module found, the same render writes its image.
+    Run ok = run_cli(d, "--size 8x6 --spp 1 -o out.exr");
+    CHECK(ok.status == 0);
+    CHECK(fs::exists(d.path / "out.exr"));
 }
 
 TEST_CASE("cli edges: a read-only folder fails before rendering, and leaves no probe",

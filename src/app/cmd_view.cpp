@@ -26,6 +26,7 @@
 
 #include "app/render_options.h"
 #include "app/subcommands.h"
+#include "image/codec.h"
 #include "image/image.h"
 #include "image/tonemap.h"
 #include "scene/camera_control.h"
@@ -33,7 +34,6 @@
 #include "util/limits.h"
 
 #ifdef WP_HAVE_VIEWER
-#include <OpenImageIO/imageio.h>
 
 #define GLFW_INCLUDE_NONE
 #include <GL/gl.h>
@@ -169,13 +169,15 @@ void write_screenshot(const fs::path& path, int w, int h) {
                 rgb[(static_cast<std::size_t>(y) * w + x) * 3 + c] =
                     px[(static_cast<std::size_t>(h - 1 - y) * w + x) * 4 + c];
     write_atomically(path, [&](const fs::path& tmp) {
-        auto out = OIIO::ImageOutput::create("png");
-        if (!out) fail("{}: OpenImageIO has no PNG writer", path.string());
-        OIIO::ImageSpec spec(w, h, 3, OIIO::TypeDesc::UINT8);
-        spec.attribute("oiio:ColorSpace", "sRGB");
-        if (!out->open(tmp.string(), spec) || !out->write_image(OIIO::TypeDesc::UINT8, rgb.data()) ||
-            !out->close())
-            fail("{}: cannot write the screenshot: {}", path.string(), out->geterror());
+        codec::WriteSpec spec;
+        spec.width = w;
+        spec.height = h;
+        spec.channel_names = {"R", "G", "B"};
+        spec.type = codec::Pixel::UInt8;
+        spec.attributes = {{"oiio:ColorSpace", "sRGB"}};
+        std::string why;
+        if (!codec::image_codec().write(tmp.string(), "png", spec, rgb.data(), &why))
+            fail("{}: cannot write the screenshot: {}", path.string(), why);
     });
 }
 

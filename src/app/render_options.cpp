@@ -11,6 +11,7 @@
 
 #include <glm/gtc/matrix_transform.hpp>
 
+#include "image/codec.h"
 #include "image/image.h"
 #include "scene/builtin.h"
 #include "scene/load.h"
@@ -80,8 +81,9 @@ void add_config_options(CLI::App* c, ConfigArgs& a) {
         ->capture_default_str();
     c->add_option("--shade-lanes", a.shade_lanes,
                   "on: on a CPU device, shade eight paths at a time in vector lanes where "
-                  "that kernel models the scene (any material kind: diffuse, mirror and glossy "
-                  "in lane code, the other kinds' BSDFs one lane at a time; shading normals; no "
+                  "that kernel models the scene (any material kind: diffuse, mirror, glossy and "
+                  "rough conductor in lane code, the other kinds' BSDFs one lane at a time; "
+                  "shading normals; no "
                   "textures, normal maps, anisotropy or environment); the same image bit for "
                   "bit. off: one path per work-item always")
         ->capture_default_str();
@@ -328,6 +330,7 @@ void check_writable(const fs::path& path, const char* what, bool image) {
     if (image && !is_supported_image_path(path))
         usage_fail("{} '{}': unknown image extension '{}' (supported: .exr, .png, .jpg, .jpeg)",
                    what, path.string(), path.extension().string());
+    if (image) codec::check_available();
     fs::path dir = path.parent_path().empty() ? fs::path(".") : path.parent_path();
     std::error_code ec;
     if (!fs::is_directory(dir, ec))

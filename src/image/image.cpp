@@ -7,9 +7,7 @@
 #include <memory>
 #include <system_error>
 
-#include <OpenImageIO/imageio.h>
-#include <OpenImageIO/strutil.h>
-
+#include "image/codec.h"
 #include "util/atomic_file.h"
 #include "util/error.h"
 
@@ -33,26 +31,40 @@ Format format_of(const fs::path& path) {
 
 std::size_t pixel_count(int w, int h) { return static_cast<std::size_t>(w) * h; }
 
-// Strips the trailing newline OIIO leaves on its messages.
-std::string trimmed(std::string s) {
-    while (!s.empty() && (s.back() == '\n' || s.back() == ' ')) s.pop_back();
-    return s.empty() ? std::string("unknown OpenImageIO error") : s;
+// ASCII case-insensitive equality (colour-space names).
+bool iequals(const std::string& a, const char* b) {
+    std::size_t i = 0;
+    for (; i < a.size() && b[i]; ++i)
+        if (std::tolower(static_cast<unsigned char>(a[i])) != std::tolower(static_cast<unsigned char>(b[i])))
+            return false;
+    return i == a.size() && !b[i];
 }
 
-// Opens an OIIO writer on `tmp` and writes `data` (of type `type`); `path` names the
-// destination in messages.
-void write_with_oiio(const fs::path& path, const fs::path& tmp, const OIIO::ImageSpec& spec,
-                     OIIO::TypeDesc type, const void* data) {
-    std::unique_ptr<OIIO::ImageOutput> out = OIIO::ImageOutput::create(tmp.string());
-    if (!out) fail("cannot write '{}': {}", path.string(), trimmed(OIIO::geterror()));
-    if (!out->open(tmp.string(), spec))
-        fail("cannot write '{}': {}", path.string(), trimmed(out->geterror()));
-    if (!out->write_image(type, data)) {
-        std::string why = trimmed(out->geterror());
-        out->close();
+// Writes `data` to `tmp` through the codec (the format from tmp's extension); `path` names
+// the destination in messages.
+void write_with_codec(const fs::path& path, const fs::path& tmp, const codec::WriteSpec& spec,
+                      const void* data) {
+    std::string why;
+    if (!codec::image_codec().write(tmp.string(), "", spec, data, &why))
         fail("cannot write '{}': {}", path.string(), why);
-    }
-    if (!out->close()) fail("cannot write '{}': {}", path.string(), trimmed(out->geterror()));
+}
+
+// A reader of `path`; `what` words the failure ("cannot read 'F'" or "cannot read image 'F'").
+std::unique_ptr<codec::Reader> open_reader(const fs::path& path, const char* what) {
+    std::string why;
+    std::unique_ptr<codec::Reader> in = codec::image_codec().open_file(path.string(), false, &why);
+    if (!in) fail("{} '{}': {}", what, path.string(), why);
+    return in;
+}
+
+codec::WriteSpec float_spec(int w, int h, std::vector<std::string> names) {
+    codec::WriteSpec spec;
+    spec.width = w;
+    spec.height = h;
+    spec.channel_names = std::move(names);
+    spec.type = codec::Pixel::Float;
+    spec.attributes = {{"oiio:ColorSpace", "Linear"}, {"compression", "zip"}};
+    return spec;
 }
 
 void check_size(const fs::path& path, int w, int h, std::size_t floats) {
@@ -84,25 +96,14 @@ bool is_supported_image_path(const fs::path& path) { return format_of(path) != F
 
 namespace {
 
-void add_attributes(OIIO::ImageSpec& spec, const std::vector<ImageAttribute>& attributes) {
-    for (const auto& a : attributes) {
-        if (a.integer)
-            spec.attribute(a.name, std::stoi(a.value));
-        else
-            spec.attribute(a.name, a.value);
-    }
+void add_attributes(codec::WriteSpec& spec, const std::vector<ImageAttribute>& attributes) {
+    spec.attributes.insert(spec.attributes.end(), attributes.begin(), attributes.end());
 }
 
 }  // namespace
 
 std::optional<std::string> read_image_attribute(const fs::path& path, const std::string& name) {
-    auto in = OIIO::ImageInput::open(path.string());
-    if (!in) fail("cannot read '{}': {}", path.string(), trimmed(OIIO::geterror()));
-    const OIIO::ParamValue* p = in->spec().find_attribute(name);
-    std::optional<std::string> v;
-    if (p) v = p->get_string();
-    in->close();
-    return v;
+    return open_reader(path, "cannot read")->attribute(name);
 }
 
 void write_image(const fs::path& path, const Image& image,
@@ -119,20 +120,22 @@ void write_image(const fs::path& path, const Image& image,
 
     write_atomically(path, [&](const fs::path& tmp) {
         if (format == Format::exr) {
-            OIIO::ImageSpec spec(image.width, image.height, 3, OIIO::TypeDesc::FLOAT);
-            spec.attribute("oiio:ColorSpace", "Linear");
-            spec.attribute("compression", "zip");
+            codec::WriteSpec spec = float_spec(image.width, image.height, {"R", "G", "B"});
             add_attributes(spec, attributes);
-            write_with_oiio(path, tmp, spec, OIIO::TypeDesc::FLOAT, image.rgb.data());
+            write_with_codec(path, tmp, spec, image.rgb.data());
             return;
         }
         std::vector<std::uint8_t> codes(image.rgb.size());
         std::transform(image.rgb.begin(), image.rgb.end(), codes.begin(), srgb_code);
-        OIIO::ImageSpec spec(image.width, image.height, 3, OIIO::TypeDesc::UINT8);
-        spec.attribute("oiio:ColorSpace", "sRGB");
+        codec::WriteSpec spec;
+        spec.width = image.width;
+        spec.height = image.height;
+        spec.channel_names = {"R", "G", "B"};
+        spec.type = codec::Pixel::UInt8;
+        spec.attributes = {{"oiio:ColorSpace", "sRGB"}};
         add_attributes(spec, attributes);
-        if (format == Format::jpeg) spec.attribute("Compression", "jpeg:95");
-        write_with_oiio(path, tmp, spec, OIIO::TypeDesc::UINT8, codes.data());
+        if (format == Format::jpeg) spec.attributes.push_back({"Compression", "jpeg:95"});
+        write_with_codec(path, tmp, spec, codes.data());
     });
 }
 
@@ -158,11 +161,7 @@ void write_exr_layers(const fs::path& path, int w, int h,
                 interleaved[(p * nlayers + l) * 3 + c] = rgb_layers[l].second[p * 3 + c];
 
     write_atomically(path, [&](const fs::path& tmp) {
-        OIIO::ImageSpec spec(w, h, 3 * nlayers, OIIO::TypeDesc::FLOAT);
-        spec.channelnames = names;
-        spec.attribute("oiio:ColorSpace", "Linear");
-        spec.attribute("compression", "zip");
-        write_with_oiio(path, tmp, spec, OIIO::TypeDesc::FLOAT, interleaved.data());
+        write_with_codec(path, tmp, float_spec(w, h, names), interleaved.data());
     });
 }
 
@@ -185,12 +184,9 @@ void write_exr_channels(const fs::path& path, int w, int h, const std::vector<Im
         for (std::size_t c = 0; c < nc; ++c)
             interleaved[p * nc + c] = channels[c].data[p * channels[c].stride + channels[c].offset];
     write_atomically(path, [&](const fs::path& tmp) {
-        OIIO::ImageSpec spec(w, h, static_cast<int>(nc), OIIO::TypeDesc::FLOAT);
-        spec.channelnames = names;
-        spec.attribute("oiio:ColorSpace", "Linear");
-        spec.attribute("compression", "zip");
+        codec::WriteSpec spec = float_spec(w, h, names);
         add_attributes(spec, attributes);
-        write_with_oiio(path, tmp, spec, OIIO::TypeDesc::FLOAT, interleaved.data());
+        write_with_codec(path, tmp, spec, interleaved.data());
     });
 }
 
@@ -214,17 +210,15 @@ std::vector<float> ChannelImage::channel(const std::string& name) const {
 ChannelImage read_image_channels(const fs::path& path) {
     std::error_code ec;
     if (!fs::exists(path, ec)) fail("cannot read image '{}': no such file", path.string());
-    std::unique_ptr<OIIO::ImageInput> in = OIIO::ImageInput::open(path.string());
-    if (!in) fail("cannot read image '{}': {}", path.string(), trimmed(OIIO::geterror()));
-    const OIIO::ImageSpec spec = in->spec();
+    std::unique_ptr<codec::Reader> in = open_reader(path, "cannot read image");
+    const codec::Header& spec = in->header();
     ChannelImage img;
     img.width = spec.width;
     img.height = spec.height;
-    for (int c = 0; c < spec.nchannels; ++c) img.names.push_back(spec.channel_name(c));
-    img.data.resize(pixel_count(spec.width, spec.height) * spec.nchannels);
-    if (!in->read_image(0, 0, 0, spec.nchannels, OIIO::TypeDesc::FLOAT, img.data.data()))
-        fail("cannot read image '{}': {}", path.string(), trimmed(in->geterror()));
-    in->close();
+    img.names = spec.channel_names;
+    img.data.resize(pixel_count(spec.width, spec.height) * spec.channels);
+    if (!in->read(spec.channels, codec::Pixel::Float, img.data.data(), 0))
+        fail("cannot read image '{}': {}", path.string(), in->error());
     return img;
 }
 
@@ -232,24 +226,22 @@ Image read_image(const fs::path& path) {
     std::error_code ec;
     if (!fs::exists(path, ec)) fail("cannot read image '{}': no such file", path.string());
     if (fs::is_directory(path, ec)) fail("cannot read image '{}': it is a folder", path.string());
-    std::unique_ptr<OIIO::ImageInput> in = OIIO::ImageInput::open(path.string());
-    if (!in) fail("cannot read image '{}': {}", path.string(), trimmed(OIIO::geterror()));
-
-    const OIIO::ImageSpec spec = in->spec();  // a copy: close() may reset the reader
-    int channels = spec.nchannels;
+    std::unique_ptr<codec::Reader> in = open_reader(path, "cannot read image");
+    const codec::Header spec = in->header();
+    int channels = spec.channels;
     if (channels < 1 || spec.width <= 0 || spec.height <= 0)
         fail("cannot read image '{}': it holds no pixels", path.string());
-    bool srgb = OIIO::Strutil::iequals(spec.get_string_attribute("oiio:ColorSpace"), "sRGB");
+    bool srgb = iequals(spec.colorspace, "sRGB");
     // 8-bit sRGB files are read as codes and decoded in double through a table, so each code
     // maps to exactly srgb_decode(code / 255); everything else is read as float.
-    bool codes = srgb && spec.format == OIIO::TypeDesc::UINT8;
+    bool codes = srgb && spec.storage == codec::Storage::UInt8;
     std::size_t n = pixel_count(spec.width, spec.height) * channels;
     std::vector<float> data(n);
     std::vector<std::uint8_t> code_data(codes ? n : 0);
-    bool ok = codes ? in->read_image(0, 0, 0, channels, OIIO::TypeDesc::UINT8, code_data.data())
-                    : in->read_image(0, 0, 0, channels, OIIO::TypeDesc::FLOAT, data.data());
-    if (!ok) fail("cannot read image '{}': {}", path.string(), trimmed(in->geterror()));
-    in->close();
+    bool ok = codes ? in->read(channels, codec::Pixel::UInt8, code_data.data(), 0)
+                    : in->read(channels, codec::Pixel::Float, data.data(), 0);
+    if (!ok) fail("cannot read image '{}': {}", path.string(), in->error());
+    in.reset();
     if (codes) {
         float table[256];
         for (int c = 0; c < 256; ++c) table[c] = static_cast<float>(srgb_decode(c / 255.0));

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <array>
+#include <cctype>
 #include <climits>
 #include <cmath>
 #include <exception>
@@ -10,10 +11,8 @@
 #include <system_error>
 
 #include <fmt/format.h>
-#include <OpenImageIO/filesystem.h>
-#include <OpenImageIO/imageio.h>
-#include <OpenImageIO/strutil.h>
 
+#include "image/codec.h"
 #include "image/image.h"
 #include "util/error.h"
 #include "util/limits.h"
@@ -34,43 +33,41 @@ struct TextureError : Error {
 
 [[noreturn]] void refuse(const std::string& name, std::string why) { throw TextureError(name, std::move(why)); }
 
-// OIIO's messages end in a newline; an empty one says nothing.
-std::string trimmed(std::string s) {
-    while (!s.empty() && (s.back() == '\n' || s.back() == ' ')) s.pop_back();
-    return s.empty() ? std::string("OpenImageIO gave no reason") : s;
+using codec::Header;
+using codec::Storage;
+
+bool is_eight_bit(const Header& spec) { return spec.storage == Storage::UInt8 || spec.storage == Storage::Int8; }
+
+bool is_float_format(const Header& spec) {
+    return spec.storage == Storage::Half || spec.storage == Storage::Float || spec.storage == Storage::Double;
 }
 
-bool is_eight_bit(const OIIO::ImageSpec& spec) {
-    return spec.format.basetype == OIIO::TypeDesc::UINT8 || spec.format.basetype == OIIO::TypeDesc::INT8;
-}
-
-bool is_float_format(const OIIO::ImageSpec& spec) {
-    auto b = spec.format.basetype;
-    return b == OIIO::TypeDesc::HALF || b == OIIO::TypeDesc::FLOAT || b == OIIO::TypeDesc::DOUBLE;
+// ASCII lower case (colour-space names).
+std::string lower(std::string s) {
+    for (char& c : s) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+    return s;
 }
 
 // The file says its values are linear: oiio:ColorSpace Linear, lin_*, scene_linear, or
 // oiio:Gamma 1 (a PNG gAMA of 1.0).
-bool tagged_linear(const OIIO::ImageSpec& spec) {
-    std::string cs = spec.get_string_attribute("oiio:ColorSpace");
-    if (OIIO::Strutil::iequals(cs, "linear") || OIIO::Strutil::iequals(cs, "scene_linear") ||
-        OIIO::Strutil::istarts_with(cs, "lin_"))
-        return true;
-    return spec.get_float_attribute("oiio:Gamma", 0.0f) == 1.0f;
+bool tagged_linear(const Header& spec) {
+    const std::string cs = lower(spec.colorspace);
+    if (cs == "linear" || cs == "scene_linear" || cs.rfind("lin_", 0) == 0) return true;
+    return spec.gamma == 1.0f;
 }
 
 // Whether a load for `use` decodes (8-bit: keeps flagged) sRGB: colour data in an integer
 // format that the file does not tag as linear. Float and half files are linear as stored.
-bool srgb_for(const OIIO::ImageSpec& spec, TextureUse use) {
+bool srgb_for(const Header& spec, TextureUse use) {
     return use == TextureUse::Colour && !is_float_format(spec) && !tagged_linear(spec);
 }
 
 // Header checks, before any pixel is read.
-void check_spec(const OIIO::ImageSpec& spec, const std::string& name) {
+void check_spec(const Header& spec, const std::string& name) {
     if (spec.deep) refuse(name, "deep images are not supported");
-    if (spec.width <= 0 || spec.height <= 0 || spec.nchannels <= 0)
+    if (spec.width <= 0 || spec.height <= 0 || spec.channels <= 0)
         refuse(name, fmt::format("it holds no pixels ({}x{}, {} channels)", spec.width, spec.height,
-                                 spec.nchannels));
+                                 spec.channels));
     if (spec.depth > 1) refuse(name, fmt::format("it is a volume ({} slices), not a 2D image", spec.depth));
     if (spec.width > limits::kMaxTextureSide || spec.height > limits::kMaxTextureSide)
         refuse(name, fmt::format("{}x{} texels; a side may be at most {}", spec.width, spec.height,
@@ -101,35 +98,34 @@ void expand_to_rgba(std::vector<T>& rgba, int channels, T one) {
 }
 
 // Reads the first subimage of an opened reader into a Texture.
-Texture read_texture(OIIO::ImageInput& in, const std::string& name, TextureUse use,
+Texture read_texture(codec::Reader& in, const std::string& name, TextureUse use,
                      std::vector<std::string>& warnings) {
-    const OIIO::ImageSpec spec = in.spec();  // a copy: reading may change the reader's
+    const Header spec = in.header();
     check_spec(spec, name);
     Texture tex;
     tex.source = name;
     tex.width = spec.width;
     tex.height = spec.height;
     tex.srgb = srgb_for(spec, use);
-    const int channels = std::min(spec.nchannels, 4);
+    const int channels = std::min(spec.channels, 4);
     const std::size_t values = std::size_t(spec.width) * std::size_t(spec.height) * 4;
-    auto read = [&](OIIO::TypeDesc type, void* data, std::size_t value_size) {
+    auto read = [&](codec::Pixel type, void* data, std::size_t value_size) {
         // Each texel's first `channels` values; the rest are filled by expand_to_rgba.
-        if (!in.read_image(0, 0, 0, channels, type, data, OIIO::stride_t(4 * value_size)))
-            refuse(name, trimmed(in.geterror()));
+        if (!in.read(channels, type, data, std::ptrdiff_t(4 * value_size))) refuse(name, in.error());
     };
 
     if (is_eight_bit(spec)) {
         tex.texels8.resize(values);
-        read(OIIO::TypeDesc::UINT8, tex.texels8.data(), 1);
+        read(codec::Pixel::UInt8, tex.texels8.data(), 1);
         expand_to_rgba<std::uint8_t>(tex.texels8, channels, 255);
         return tex;
     }
 
     tex.texelsf.resize(values);
-    if (spec.format.basetype == OIIO::TypeDesc::UINT16 || spec.format.basetype == OIIO::TypeDesc::INT16) {
+    if (spec.storage == Storage::UInt16 || spec.storage == Storage::Int16) {
         // 16-bit: codes through a table (exact double-precision decode, no pow per value).
         std::vector<std::uint16_t> codes(values);
-        read(OIIO::TypeDesc::UINT16, codes.data(), 2);
+        read(codec::Pixel::UInt16, codes.data(), 2);
         expand_to_rgba<std::uint16_t>(codes, channels, 65535);
         std::vector<float> linear(65536), stored(65536);
         for (int c = 0; c < 65536; ++c) {
@@ -141,7 +137,7 @@ Texture read_texture(OIIO::ImageInput& in, const std::string& name, TextureUse u
         return tex;
     }
 
-    read(OIIO::TypeDesc::FLOAT, tex.texelsf.data(), 4);
+    read(codec::Pixel::Float, tex.texelsf.data(), 4);
     expand_to_rgba<float>(tex.texelsf, channels, 1.0f);
     if (tex.srgb)  // other integer formats (32-bit): normalised, decoded per value
         for (std::size_t i = 0; i < values; ++i)
@@ -166,20 +162,14 @@ void check_file(const fs::path& path) {
     if (!fs::is_regular_file(path, ec)) refuse(path.string(), "not a regular file");
 }
 
-// Reader configuration: colour and alpha as stored. OIIO's readers otherwise premultiply
-// straight alpha (PNG, TGA, TIFF), which would darken the colour of cut-out texels.
-OIIO::ImageSpec reader_config() {
-    OIIO::ImageSpec config;
-    config.attribute("oiio:UnassociatedAlpha", 1);
-    return config;
-}
-
-// The opened reader of a file (header read, no pixels).
-std::unique_ptr<OIIO::ImageInput> open_file(const fs::path& path) {
+// The opened reader of a file (header read, no pixels), colour and alpha as stored: the
+// readers otherwise premultiply straight alpha (PNG, TGA, TIFF), which would darken the
+// colour of cut-out texels.
+std::unique_ptr<codec::Reader> open_file(const fs::path& path) {
     check_file(path);
-    const OIIO::ImageSpec config = reader_config();
-    std::unique_ptr<OIIO::ImageInput> in = OIIO::ImageInput::open(path.string(), &config);
-    if (!in) refuse(path.string(), trimmed(OIIO::geterror()));
+    std::string why;
+    std::unique_ptr<codec::Reader> in = codec::image_codec().open_file(path.string(), true, &why);
+    if (!in) refuse(path.string(), why);
     return in;
 }
 
@@ -189,27 +179,18 @@ std::string placeholder_source(const std::string& file) { return file + " (place
 }  // namespace
 
 Texture load_texture(const fs::path& path, TextureUse use, std::vector<std::string>& warnings) {
-    std::unique_ptr<OIIO::ImageInput> in = open_file(path);
-    Texture tex = read_texture(*in, path.string(), use, warnings);
-    in->close();
-    return tex;
+    std::unique_ptr<codec::Reader> in = open_file(path);
+    return read_texture(*in, path.string(), use, warnings);
 }
 
 Texture load_texture_from_memory(const std::string& bytes, const std::string& name, TextureUse use,
                                  std::vector<std::string>& warnings) {
     if (bytes.empty()) refuse(name, "the image holds no bytes");
-    // The proxy outlives the reader. create() with a proxy picks the reader by the name's
-    // extension and, when that reader does not accept the bytes, by trying the others.
-    OIIO::Filesystem::IOMemReader proxy(bytes.data(), bytes.size());
-    std::unique_ptr<OIIO::ImageInput> in = OIIO::ImageInput::create(name, false, nullptr, &proxy);
-    if (!in) refuse(name, trimmed(OIIO::geterror()));
-    if (!in->supports("ioproxy")) refuse(name, fmt::format("the {} reader cannot read from memory", in->format_name()));
-    if (!in->set_ioproxy(&proxy)) refuse(name, trimmed(in->geterror()));
-    OIIO::ImageSpec spec;
-    if (!in->open(name, spec, reader_config())) refuse(name, trimmed(in->geterror()));
-    Texture tex = read_texture(*in, name, use, warnings);
-    in->close();
-    return tex;
+    // The reader is chosen by the name's extension, else by trying each on the bytes.
+    std::string why;
+    std::unique_ptr<codec::Reader> in = codec::image_codec().open_memory(name, bytes, true, &why);
+    if (!in) refuse(name, why);
+    return read_texture(*in, name, use, warnings);
 }
 
 int add_texture_file(Scene& scene, const fs::path& path, TextureUse use) {
@@ -227,9 +208,7 @@ int add_texture_file(Scene& scene, const fs::path& path, TextureUse use) {
         // Loaded before for a use that gives the same texels: same srgb flag (read from the
         // header, which costs no pixels).
         if (index_of([&](const Texture& t) { return t.source == source; }) >= 0) {
-            std::unique_ptr<OIIO::ImageInput> in = open_file(path);
-            bool srgb = srgb_for(in->spec(), use);
-            in->close();
+            bool srgb = srgb_for(open_file(path)->header(), use);
             if (int i = index_of([&](const Texture& t) { return t.source == source && t.srgb == srgb; }); i >= 0)
                 return i;
         }
