@@ -7,8 +7,8 @@
 // a module, libwavepath_oiio.so, loaded with dlopen(RTLD_LOCAL) the first time a file is
 // read or written (image_codec() below). A render reaches its first frame without it and
 // loads it to write its image; `--help`, `bench`, `info` and the rest never load it.
-// Programs that link the codec's object code directly (the test binary, the fuzzers)
-// use it as linked, without the module.
+// Programs that link the codec's object code directly (wavepath_image_tests,
+// wavepath_parser_tests, the fuzzers) use it as linked, without the module.
 //
 // Every function of the interface reports failure through its return value and a message,
 // never by exception, so nothing unwinds across the module boundary; image.cpp and

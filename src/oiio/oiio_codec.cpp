@@ -1,7 +1,7 @@
 // oiio_codec.cpp — image/codec.h's codec on OpenImageIO: built as the module
 // libwavepath_oiio.so (loaded by the wavepath binary on first use) and linked directly into
-// the tests and the fuzzers. No exception leaves these functions: OIIO's errors, and any
-// exception its calls throw, come back as messages.
+// wavepath_image_tests and the fuzzers. No exception leaves these functions: OIIO's errors,
+// and any exception its calls throw, come back as messages.
 #include <OpenImageIO/filesystem.h>
 #include <OpenImageIO/imageio.h>
 
