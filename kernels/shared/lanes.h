@@ -489,7 +489,9 @@ WP_FN float8 wp_mf_pdf_vndf_gd8(float8 g1, L3 w, L3 h, float8 d) {
 }
 // wp_mf_sample_vndf for the lanes of `need`.
 WP_FN L3 wp_mf_sample_vndf8(L3 w, float8 alpha, int8 bk, float8 u1, float8 u2, int8 need) {
-    L3 h = wp_ggx_sample_vndf8(w, alpha, u1, u2);  // GGX: Heitz 2018 (the glossy kind's)
+    // Each distribution's sampler only where a needed lane has it (veach-mis: Beckmann only).
+    L3 h = l3_splat(0.0f, 0.0f, 1.0f);
+    if (wp_lane_bits(need & ~bk)) h = wp_ggx_sample_vndf8(w, alpha, u1, u2);  // Heitz 2018, as glossy
     if (wp_lane_bits(bk & need)) {
         L3 wh = l3_normalize(l3(alpha * w.x, alpha * w.y, w.z));
         float8 sin_t = sqrt(wh.x * wh.x + wh.y * wh.y);
