@@ -1,7 +1,6 @@
 #include "image/image.h"
 
 #include <algorithm>
-#include <cctype>
 #include <cmath>
 #include <cstdint>
 #include <memory>
@@ -10,6 +9,7 @@
 #include "image/codec.h"
 #include "util/atomic_file.h"
 #include "util/error.h"
+#include "util/strings.h"
 
 namespace wp {
 
@@ -20,9 +20,7 @@ namespace {
 enum class Format { exr, png, jpeg, unknown };
 
 Format format_of(const fs::path& path) {
-    std::string ext = path.extension().string();
-    std::transform(ext.begin(), ext.end(), ext.begin(),
-                   [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+    const std::string ext = ascii_lower(path.extension().string());
     if (ext == ".exr") return Format::exr;
     if (ext == ".png") return Format::png;
     if (ext == ".jpg" || ext == ".jpeg") return Format::jpeg;
@@ -30,15 +28,6 @@ Format format_of(const fs::path& path) {
 }
 
 std::size_t pixel_count(int w, int h) { return static_cast<std::size_t>(w) * h; }
-
-// ASCII case-insensitive equality (colour-space names).
-bool iequals(const std::string& a, const char* b) {
-    std::size_t i = 0;
-    for (; i < a.size() && b[i]; ++i)
-        if (std::tolower(static_cast<unsigned char>(a[i])) != std::tolower(static_cast<unsigned char>(b[i])))
-            return false;
-    return i == a.size() && !b[i];
-}
 
 // Writes `data` to `tmp` through the codec (the format from tmp's extension); `path` names
 // the destination in messages.
@@ -231,7 +220,7 @@ Image read_image(const fs::path& path) {
     int channels = spec.channels;
     if (channels < 1 || spec.width <= 0 || spec.height <= 0)
         fail("cannot read image '{}': it holds no pixels", path.string());
-    bool srgb = iequals(spec.colorspace, "sRGB");
+    bool srgb = ascii_lower(spec.colorspace) == "srgb";
     // 8-bit sRGB files are read as codes and decoded in double through a table, so each code
     // maps to exactly srgb_decode(code / 255); everything else is read as float.
     bool codes = srgb && spec.storage == codec::Storage::UInt8;

@@ -2,7 +2,6 @@
 
 #include <algorithm>
 #include <array>
-#include <cctype>
 #include <climits>
 #include <cmath>
 #include <exception>
@@ -16,6 +15,7 @@
 #include "image/image.h"
 #include "util/error.h"
 #include "util/limits.h"
+#include "util/strings.h"
 
 namespace wp {
 
@@ -42,16 +42,10 @@ bool is_float_format(const Header& spec) {
     return spec.storage == Storage::Half || spec.storage == Storage::Float || spec.storage == Storage::Double;
 }
 
-// ASCII lower case (colour-space names).
-std::string lower(std::string s) {
-    for (char& c : s) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
-    return s;
-}
-
 // The file says its values are linear: oiio:ColorSpace Linear, lin_*, scene_linear, or
 // oiio:Gamma 1 (a PNG gAMA of 1.0).
 bool tagged_linear(const Header& spec) {
-    const std::string cs = lower(spec.colorspace);
+    const std::string cs = ascii_lower(spec.colorspace);
     if (cs == "linear" || cs == "scene_linear" || cs.rfind("lin_", 0) == 0) return true;
     return spec.gamma == 1.0f;
 }
