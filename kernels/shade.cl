@@ -9,7 +9,9 @@
 //         material_tables (the per-material tables some kinds read at MaterialData.table,
 //         scene/material_tables.h; a one-float placeholder when no material has any);
 //         background radiance; with WP_HAVE_NEE the light table (lights.h): light_cdf,
-//         light_guide, light_guide_size, light_prims, light_pdf_area, light_count; the
+//         light_guide, light_guide_size, light_prims, light_pdf_area, light_count, and
+//         with WP_HAVE_LIGHT_CLEARANCE light_clearance (per triangle: where a shadow segment
+//         towards it may end, scene/light_clearance.h; else a placeholder); the
 //         appearance arrays of the features the scene has (else one-element placeholders):
 //         tri_normals (WP_HAVE_NORMALS), tri_uvs, material_textures and the texture pool (WP_HAVE_TEXTURES), tri_tangents
 //         (WP_HAVE_NORMAL_MAPS), the environment env, env_texels, env_marginal,
@@ -69,6 +71,11 @@
 #ifndef WP_HAVE_ENV
 #define WP_HAVE_ENV 0
 #endif
+// Shadow segments end where the light's clearance begins (light_clearance; offset.h,
+// wp_shadow_end_clear): compiled with light sampling unless --light-clearance off.
+#ifndef WP_HAVE_LIGHT_CLEARANCE
+#define WP_HAVE_LIGHT_CLEARANCE 0
+#endif
 #ifndef WP_HAVE_ANISOTROPY
 #define WP_HAVE_ANISOTROPY 0
 #endif
@@ -80,6 +87,7 @@ typedef struct LightTable {
     WP_GLOBAL const int* prims;
     WP_GLOBAL const float* pdf_area;
     WP_GLOBAL const LightPair* pairs;  // with WP_HAVE_LIGHT_PAIRS (lights.h)
+    WP_GLOBAL const float* clearance;  // with WP_HAVE_LIGHT_CLEARANCE
     int count;
     int guide_size;
 } LightTable;
@@ -422,6 +430,9 @@ WP_FN int wp_shade_path(Ray ray, PathState path, Hit hit, WP_GLOBAL const Triang
                 float3 so = dot(wi, ng) > 0.0f ? org : wp_offset_ray_origin(p, perr, -ng, tri_offset);
                 float3 sd = env_sample ? wi * app.env_distance : y - so;
                 float tmax = env_sample ? 1.0f : wp_shadow_tmax(sd, yerr, ln, l_offset);
+#if WP_HAVE_LIGHT_CLEARANCE
+                if (!env_sample) tmax = wp_shadow_end_clear(tmax, sd, y, yerr, lights.clearance[lp]);
+#endif
                 shadow_ray->org = make_float4(so.x, so.y, so.z, 0.0f);
                 shadow_ray->dir = make_float4(sd.x, sd.y, sd.z, tmax);
                 *contrib = wp_float4(c, 0.0f);
@@ -487,6 +498,7 @@ WP_FN int wp_shade_path(Ray ray, PathState path, Hit hit, WP_GLOBAL const Triang
     WP_GLOBAL const float* light_cdf, WP_GLOBAL const int* light_guide, \
     int light_guide_size, WP_GLOBAL const int* light_prims, \
     WP_GLOBAL const float* light_pdf_area, WP_GLOBAL const LightPair* light_pairs, \
+    WP_GLOBAL const float* light_clearance, \
     int light_count, \
     WP_GLOBAL const TriNormals* tri_normals, WP_GLOBAL const TriUVs* tri_uvs, \
     WP_GLOBAL const TriTangents* tri_tangents, \
@@ -522,6 +534,7 @@ WP_KERNEL void shade_surface(WP_SHADE_SURFACE_PARAMS) {
     lights.prims = light_prims;
     lights.pdf_area = light_pdf_area;
     lights.pairs = light_pairs;
+    lights.clearance = light_clearance;
     lights.count = light_count;
     Appearance app;
     app.normals = tri_normals;
@@ -707,6 +720,7 @@ WP_KERNEL void shade_surface8(WP_SHADE_SURFACE_PARAMS) {
     (void)material_tables, (void)tri_normals, (void)tri_uvs, (void)tri_tangents;
     (void)material_textures, (void)textures, (void)texture_views, (void)texels8, (void)texelsf;
     (void)env_texels, (void)env_marginal, (void)env_conditional, (void)env_distance, (void)light_pairs;
+    (void)light_clearance;
     (void)cone_spread;
     const int base = WP_SHADE_LANE_ENTRIES * wp_global_id();
     const int count = count_in[0];
@@ -945,6 +959,9 @@ WP_KERNEL void shade_surface8(WP_SHADE_SURFACE_PARAMS) {
                 vstore8(ulz, 0, ulz_a);
                 float l0x[8], l0y[8], l0z[8], l1x[8], l1y[8], l1z[8], l2x[8], l2y[8], l2z[8];
                 float lnx[8], lny[8], lnz[8], loff[8], lpa[8], lex[8], ley[8], lez[8];
+#if WP_HAVE_LIGHT_CLEARANCE
+                float lcl[8];
+#endif
                 // Lanes without a light sample (Dirac kinds, dead paths) read light 0: no
                 // search of the table, no miss on a random light triangle.
                 const int sampled_bits = wp_lane_bits(sampled);
@@ -974,6 +991,9 @@ WP_KERNEL void shade_surface8(WP_SHADE_SURFACE_PARAMS) {
                     l2x[l] = lt.v2.x, l2y[l] = lt.v2.y, l2z[l] = lt.v2.z;
                     lnx[l] = lf.x, lny[l] = lf.y, lnz[l] = lf.z, loff[l] = lf.w;
                     lex[l] = le.x, ley[l] = le.y, lez[l] = le.z;
+#if WP_HAVE_LIGHT_CLEARANCE
+                    lcl[l] = light_clearance[lp];
+#endif
                 }
                 const L3 ln = l3(vload8(0, lnx), vload8(0, lny), vload8(0, lnz));
                 // wp_sample_triangle_barycentric
@@ -1041,7 +1061,12 @@ WP_KERNEL void shade_surface8(WP_SHADE_SURFACE_PARAMS) {
                     // point, ending short of it (offset.h).
                     const L3 so = l3_select(org_below, org, l3_dot(wi, ng) > 0.0f);
                     const L3 sd = l3_sub(y, so);
+#if WP_HAVE_LIGHT_CLEARANCE
+                    const float8 tmax = wp_shadow_end_clear8(wp_shadow_tmax8(sd, yerr, ln, vload8(0, loff)), sd, y,
+                                                             yerr, vload8(0, lcl));
+#else
                     const float8 tmax = wp_shadow_tmax8(sd, yerr, ln, vload8(0, loff));
+#endif
                     shadow_bits |= (uint)wp_lane_bits(shadow) << g;
                     vstore8(so.x, 0, sox + g), vstore8(so.y, 0, soy + g), vstore8(so.z, 0, soz + g);
                     vstore8(sd.x, 0, sdx + g), vstore8(sd.y, 0, sdy + g), vstore8(sd.z, 0, sdz + g);

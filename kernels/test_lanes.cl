@@ -159,7 +159,8 @@ WP_KERNEL void probe_math8(int n, WP_GLOBAL const float* in, WP_GLOBAL uint* lan
 //         to_local(a, n) (3), cosine hemisphere(u, v) (3), uniform hemisphere(u, v) (3),
 //         cosine pdf(n.z), hit point p of triangle (a, b, c) at (u, v) (3) and its err (3),
 //         offset_ray_origin(p, err, n, s) (3), shadow_tmax(b - p, err, n, s),
-//         power_heuristic(s, t), light_pdf_solid_angle(s, t, n.z), 0 (4)
+//         power_heuristic(s, t), light_pdf_solid_angle(s, t, n.z),
+//         shadow_end_clear(that tmax, b - p, c, err, t), 0 (3)
 WP_KERNEL void probe_misc8(int n, WP_GLOBAL const float* in, WP_GLOBAL uint* lane,
                            WP_GLOBAL uint* scalar) {
     int i = wp_global_id();
@@ -182,7 +183,8 @@ WP_KERNEL void probe_misc8(int n, WP_GLOBAL const float* in, WP_GLOBAL uint* lan
                      wp_cosine_hemisphere_pdf(nn.z), p.x, p.y, p.z, err.x, err.y, err.z,
                      o.x, o.y, o.z, wp_shadow_tmax(vb - p, err, nn, s),
                      wp_power_heuristic(s, t), wp_light_pdf_solid_angle(s, t, nn.z),
-                     0.0f, 0.0f, 0.0f, 0.0f, 0.0f};
+                     wp_shadow_end_clear(wp_shadow_tmax(vb - p, err, nn, s), vb - p, vc, err, t),
+                     0.0f, 0.0f, 0.0f, 0.0f};
         for (int k = 2; k < 32; ++k) r[k] = f[k - 2];
         for (int k = 0; k < 32; ++k) scalar[(8 * i + l) * 32 + k] = as_uint(r[k]);
     }
@@ -202,7 +204,8 @@ WP_KERNEL void probe_misc8(int n, WP_GLOBAL const float* in, WP_GLOBAL uint* lan
                   wp_cosine_hemisphere_pdf8(nn.z), p.x, p.y, p.z, err.x, err.y, err.z,
                   o.x, o.y, o.z, wp_shadow_tmax8(l3_sub(vb, p), err, nn, s),
                   wp_power_heuristic8(s, t), wp_light_pdf_solid_angle8(s, t, nn.z),
-                  (float8)(0.0f), (float8)(0.0f), (float8)(0.0f), (float8)(0.0f), (float8)(0.0f)};
+                  wp_shadow_end_clear8(wp_shadow_tmax8(l3_sub(vb, p), err, nn, s), l3_sub(vb, p), vc, err, t),
+                  (float8)(0.0f), (float8)(0.0f), (float8)(0.0f), (float8)(0.0f)};
     for (int k = 2; k < 32; ++k) r[k] = f[k - 2];
     for (int k = 0; k < 32; ++k) {
         uint b[8];

@@ -547,6 +547,8 @@ int run_render(RenderArgs a) {
         const auto& st = wf.stats();
         j["scene"] = {{"name", scene.name}, {"triangles", st.triangles}, {"vertices", st.vertices},
                       {"materials", st.materials}, {"emissive_materials", st.emissive_materials},
+                      {"light_triangles", st.light_triangles}, {"cleared_lights", st.cleared_lights},
+                      {"clearance_ms", st.clearance_ms},
                       {"bvh_nodes", st.bvh_nodes}, {"bvh_depth", st.bvh_depth},
                       {"bvh_build_ms", st.bvh_build_ms}, {"bvh_flatten_ms", st.bvh_flatten_ms},
                       {"upload_ms", st.upload_ms},
@@ -557,6 +559,7 @@ int run_render(RenderArgs a) {
                          {"kernels", render::kernel_set_name(s.kernels)},
                          {"shade_lanes", s.shade_lanes},
                          {"light_pairs", s.light_pairs},
+                         {"light_clearance", s.light_clearance},
                          {"final_rays", wf.final_rays_through_emitters() ? "emitters" : "closest"},
                          {"sampling", render::sampling_name(s.estimator.sampling)},
                          {"glossy", render::glossy_name(s.estimator.glossy)},

@@ -94,6 +94,13 @@ void add_config_options(CLI::App* c, ConfigArgs& a) {
                   "(docs/design.md, \"Light pairs\"); the same image in expectation, less noise. "
                   "off: every sample stays on the triangle the light table picked")
         ->capture_default_str();
+    c->add_option("--light-clearance", a.light_clearance,
+                  "on: a shadow ray towards a light triangle ends where its clearance begins "
+                  "(the distance from the light to the nearest triangle outside its plane, "
+                  "found once at load; docs/design.md, \"Light clearance\"), so it skips the "
+                  "light's own neighbourhood, where it can meet nothing; the same image. off: "
+                  "every shadow ray runs up to the light's plane (less its error bound)")
+        ->capture_default_str();
     c->add_option("--final-rays", a.final_rays,
                   "emitters: where escaped rays carry no light (black background, no "
                   "environment), without --aov or --denoise, and where emitters hold at most a "
@@ -189,6 +196,9 @@ render::RenderSettings make_settings(const ConfigArgs& a, const Scene& scene) {
     if (a.light_pairs != "on" && a.light_pairs != "off")
         usage_fail("--light-pairs '{}': expected on or off", a.light_pairs);
     s.light_pairs = a.light_pairs == "on";
+    if (a.light_clearance != "on" && a.light_clearance != "off")
+        usage_fail("--light-clearance '{}': expected on or off", a.light_clearance);
+    s.light_clearance = a.light_clearance == "on";
     if (a.final_rays != "emitters" && a.final_rays != "closest")
         usage_fail("--final-rays '{}': expected emitters or closest", a.final_rays);
     s.final_rays = a.final_rays == "emitters";

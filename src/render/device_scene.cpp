@@ -12,6 +12,7 @@
 #include "bvh/build.h"
 #include "bvh/flatten.h"
 #include "render/memory.h"
+#include "scene/light_clearance.h"
 #include "scene/upload.h"
 #include "util/error.h"
 #include "util/host_trace.h"
@@ -151,6 +152,18 @@ DeviceScene DeviceScene::upload(const ocl::Device& dev, const Scene& scene, cons
     } else {
         s.light_pairs = ocl::Array<LightPair>::zeros(dev, 0, "a placeholder");
     }
+    // Where shadow segments may end: each light triangle's clearance, found through the
+    // scene's BVH (its host tree, before flattening).
+    if (config.clear_shadow_ends() && lights.size() > 0) {
+        Timer clear_timer;
+        const std::vector<float> clearance = light_clearances(scene, bvh, lights.prims);
+        st.clearance_ms = clear_timer.ms();
+        st.cleared_lights = static_cast<std::size_t>(
+            std::count_if(clearance.begin(), clearance.end(), [](float c) { return c > 0.0f; }));
+        s.light_clearance = ocl::Array<float>::upload(dev, clearance, "the light clearances");
+    } else {
+        s.light_clearance = ocl::Array<float>::zeros(dev, 0, "a placeholder");
+    }
     // The light pick's guide table (below WP_LIGHT_GUIDE_MIN lights, or without lights, none:
     // size 0 tells the kernel to search the CDF directly).
     if (!lights.guide.empty()) {
@@ -219,7 +232,7 @@ DeviceScene DeviceScene::upload(const ocl::Device& dev, const Scene& scene, cons
 
     st.scene_bytes = d.bvh.bytes + d.emitter_bvh.bytes + s.tris.bytes() + s.tri_frames.bytes() + s.material_ids.bytes() +
                      s.materials.bytes() + s.material_tables.bytes() + s.light_cdf.bytes() +
-                     s.light_guide.bytes() + s.light_prims.bytes() + s.light_pdf_area.bytes() + s.light_pairs.bytes() +
+                     s.light_guide.bytes() + s.light_prims.bytes() + s.light_pdf_area.bytes() + s.light_pairs.bytes() + s.light_clearance.bytes() +
                      st.texture_bytes + st.attribute_bytes + st.env_bytes;
     st.upload_ms = timer.ms();
     return d;

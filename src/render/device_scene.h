@@ -53,6 +53,9 @@ struct ShadingScene {
     ocl::Array<int> light_prims;
     ocl::Array<float> light_pdf_area;
     ocl::Array<LightPair> light_pairs;  // per triangle with KernelConfig::sample_pairs(); else a placeholder
+    // Per triangle (scene order) with KernelConfig::clear_shadow_ends(): a light triangle's
+    // clearance (scene/light_clearance.h), 0 elsewhere; else a placeholder.
+    ocl::Array<float> light_clearance;
     int light_count = 0;
     // Appearance (placeholders for features the scene lacks; KernelConfig).
     ocl::Array<TriNormals> tri_normals;
@@ -72,6 +75,8 @@ struct SceneStats {
     std::size_t materials = 0;
     std::size_t emissive_materials = 0;
     std::size_t light_triangles = 0;  // entries of the NEE light table (0 without NEE)
+    std::size_t cleared_lights = 0;   // light triangles with a clearance > 0 (light_clearance)
+    double clearance_ms = 0.0;        // finding the clearances (light_clearances)
     std::size_t bvh_nodes = 0;        // interior nodes of the flattened BVH
     std::size_t emitter_bvh_triangles = 0;  // triangles of the emitters' BVH (0: none built)
     int bvh_depth = 0;

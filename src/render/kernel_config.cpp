@@ -128,6 +128,7 @@ std::string KernelConfig::shade_options() const {
     if (env) o += " -D WP_HAVE_ENV=1";
     if (anisotropic) o += " -D WP_HAVE_ANISOTROPY=1";
     if (sample_pairs()) o += " -D WP_HAVE_LIGHT_PAIRS=1";
+    if (clear_shadow_ends()) o += " -D WP_HAVE_LIGHT_CLEARANCE=1";
     if (shade_lanes()) o += " -D WP_SHADE_LANES=1";
     return o + replicate_options() + inject_options();
 }

@@ -93,6 +93,9 @@ struct KernelConfig {
     // partners it found for the light table (DeviceScene), so they are searched once.
     bool light_pairs = false;
     std::shared_ptr<const std::vector<int>> light_partners;  // find_light_partners; null: none
+    // Shadow segments end where the light triangle's clearance begins (RenderSettings::
+    // light_clearance; scene/light_clearance.h): see clear_shadow_ends().
+    bool light_clearance = false;
 
     bool has(MaterialKind k) const { return kinds.test(static_cast<std::size_t>(k)); }
     // Light sampling is compiled only when something emits (a triangle or the environment)
@@ -128,6 +131,10 @@ struct KernelConfig {
     // Light sampling moves samples from light triangles that face away to their partners
     // (WP_HAVE_LIGHT_PAIRS in shade_options()): light_pairs where light sampling is compiled.
     bool sample_pairs() const { return light_pairs && nee(); }
+    // Shadow segments towards light triangles end at their clearance (WP_HAVE_LIGHT_CLEARANCE
+    // in shade_options(); DeviceScene uploads the clearances): light_clearance with light
+    // sampling.
+    bool clear_shadow_ends() const { return light_clearance && nee(); }
     // Some material kind the scene has is specular in every event (material_kinds.h).
     bool any_specular() const;
     // What the renderer prints with -v: the shade slice, the largest.

@@ -85,6 +85,11 @@ struct RenderSettings {
     // expectation, less noise from sphere lights. Off: every light sample stays on the
     // triangle the table picked (the estimator before pairs).
     bool light_pairs = true;
+    // Shadow segments towards a light triangle end where its clearance begins, the distance
+    // to the nearest triangle outside its plane (scene/light_clearance.h): the same
+    // occlusion, fewer triangle tests next to the light. Off: they run up to the light's
+    // plane (less the error bound), as before.
+    bool light_clearance = true;
     // The last bounce's rays are traced through the emitting triangles' BVH first where that
     // gives the same image bit for bit and pays (final_rays_through_emitters in
     // render/device_scene.h; not with aov, and only with the stackless traversal: the stack

@@ -47,12 +47,18 @@ namespace {
 
 // The configuration `wavepath render` ships for the shade stage, every material kind on:
 // the renderer's own option string (render/kernel_config.h), not a copy of it.
-const std::string kShipped = render::KernelConfig{}.shade_options();
+// (with the shadow segments' clearance, which a render turns on by default).
+const std::string kShipped = [] {
+    render::KernelConfig c;
+    c.light_clearance = true;
+    return c.shade_options();
+}();
 // The same with every appearance feature of issue 13 on (normals, textures, normal maps,
 // the environment, alpha cut-outs) and light pairs, from the renderer's own option strings.
 const std::string kAppearance = [] {
     render::KernelConfig c;
     c.normals = c.textures = c.normal_maps = c.env = c.alpha_mask = c.anisotropic = c.light_pairs = true;
+    c.light_clearance = true;
     return c.shade_options() + " " + c.trace_options();
 }();
 // The generate stage with a thin-lens camera (WP_HAVE_LENS), from the renderer's own string.
