@@ -453,4 +453,23 @@ TEST_CASE("render: shadow segments cut at the light's clearance give the same im
                 REQUIRE(a.size() == b.size());
                 CHECK(std::memcmp(a.data(), b.data(), a.size() * sizeof(FilmPixel)) == 0);
             }
+    // Compiled only where some light has a clearance: the box's, not a sphere light's.
+    render::RenderSettings s;
+    s.width = 8;
+    s.height = 6;
+    CHECK(render::Wavefront(test::device(), box, s).config().clear_shadow_ends());
+    Scene ball = make_cornell_box(200);
+    {
+        Material glow = emitter();
+        const auto m = ball.add_material(glow);
+        const Mesh b = make_icosphere(glm::vec3(0.0f, 1.0f, 0.0f), 0.2f, 2);
+        ball.add_mesh(b.positions, b.triangles, m);
+        for (std::size_t i = 0; i < ball.triangles.size(); ++i)  // the quad light off
+            if (ball.triangle_emits(i) && ball.material_ids[i] != m) ball.material_ids[i] = ball.material_ids[0];
+    }
+    render::Wavefront wf(test::device(), ball, s);
+    CHECK(wf.stats().light_triangles > 0);
+    CHECK(wf.stats().cleared_lights == 0);
+    CHECK_FALSE(wf.config().clear_shadow_ends());
+    CHECK(wf.options().find("WP_HAVE_LIGHT_CLEARANCE") == std::string::npos);
 }

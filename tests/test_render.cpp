@@ -1,11 +1,13 @@
 // test_render.cpp — the whole wavefront loop, end to end, against analytic answers.
 #include <catch2/catch.hpp>
 
+#include <algorithm>
 #include <cctype>
 #include <cmath>
 #include <cstring>
 #include <vector>
 
+#include "render/frame_state.h"
 #include "render/loop.h"
 #include "render/wavefront.h"
 #include "scene/builtin.h"
@@ -291,4 +293,23 @@ TEST_CASE("render: the last bounce through the emitters' BVH gives the same imag
     st.height = 6;
     st.traversal = render::Traversal::Stack;
     CHECK_FALSE(render::Wavefront(test::device(), scene, st).final_rays_through_emitters());
+}
+
+// Shade pushes its queues with non-temporal stores on a CPU device only where the pool's
+// queues exceed the device's cache (render/wavefront.cpp); the image is the same either way
+// (tests/test_shade.cpp compares the outputs bit for bit).
+TEST_CASE("render: shade streams its queues only where the pool outgrows the device's cache", "[render]") {
+    auto& dev = test::device();
+    REQUIRE(dev.info.type == "CPU");
+    REQUIRE(dev.info.cache_bytes > 0);
+    const Scene scene = make_cornell_box(200);
+    render::RenderSettings s;
+    s.width = 16;
+    s.height = 12;
+    s.pool = 1024;  // 1024 paths of ~200 bytes: far below any cache
+    CHECK_FALSE(render::Wavefront(dev, scene, s).config().stream_stores);
+    // A pool whose queues are larger than the cache (at most 2^20 paths fit the limits).
+    const std::size_t per_path = render::PathPool::bytes_per_path(true);
+    s.pool = static_cast<std::size_t>(std::min<std::uint64_t>(dev.info.cache_bytes / per_path * 2, 1u << 20));
+    if (s.pool * per_path > dev.info.cache_bytes) CHECK(render::Wavefront(dev, scene, s).config().stream_stores);
 }

@@ -744,7 +744,8 @@ ShadeCase random_lane_case(std::mt19937& rng, const std::function<MaterialData(i
 // MIS/Sobol/roulette, the original, NEE with roulette from bounce 1, cosine + Phong), with
 // and without shading normals, at bounces 0, 1 and at the depth limit, the default also with
 // light pairs, with the material kinds `kinds` compiled, and requires every output bit to
-// agree (and the pairs to change the outputs).
+// agree (and the pairs to change the outputs); the lane kernel pushes with non-temporal
+// stores (as on a CPU device), and so does shade_surface once (the default estimator).
 void check_lanes_match_scalar(const ShadeCase& base, const std::vector<MaterialKind>& kinds) {
     const int n = static_cast<int>(base.rays.size());
     std::vector<render::Estimator> estimators = {render::Estimator{}, render::Estimator::original(),
@@ -769,6 +770,9 @@ void check_lanes_match_scalar(const ShadeCase& base, const std::vector<MaterialK
             scalar.seed = 11u + unsigned(bounce);
             ShadeCase lanes = scalar;
             lanes.config.lanes = true;
+            // Pushes with non-temporal stores, as renders on a CPU device: the same bits as
+            // plain ones.
+            lanes.config.stream_stores = true;
             REQUIRE(lanes.config.shade_lanes());
             REQUIRE_FALSE(scalar.config.shade_lanes());
             const ShadeOut a = run_shade(scalar), b = run_shade(lanes);
@@ -781,6 +785,11 @@ void check_lanes_match_scalar(const ShadeCase& base, const std::vector<MaterialK
             if (bounce < 4) CHECK(a.count > n / 4);
             if (bounce < 4 && lanes.config.nee()) CHECK(a.shadow_rays.size() > std::size_t(n / 10));
             CHECK(output_differences(a, b, n) == 0);
+            if (bounce == 0 && normals && !pairs && e.sampling == render::Sampling::Mis && e.rr_depth == WP_DEFAULT_RR_DEPTH) {
+                ShadeCase streamed = scalar;
+                streamed.config.stream_stores = true;
+                CHECK(output_differences(a, run_shade(streamed), n) == 0);
+            }
             if (bounce == 1) at_bounce1 = a;
         }
         return at_bounce1;

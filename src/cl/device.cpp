@@ -65,6 +65,7 @@ std::vector<DeviceInfo> list_devices() {
             info.compute_units = d.getInfo<CL_DEVICE_MAX_COMPUTE_UNITS>();
             info.global_mem = d.getInfo<CL_DEVICE_GLOBAL_MEM_SIZE>();
             info.max_alloc = d.getInfo<CL_DEVICE_MAX_MEM_ALLOC_SIZE>();
+            info.cache_bytes = d.getInfo<CL_DEVICE_GLOBAL_MEM_CACHE_SIZE>();
             info.host_unified = d.getInfo<CL_DEVICE_HOST_UNIFIED_MEMORY>() == CL_TRUE;
             info.device = d;
             out.push_back(std::move(info));

@@ -25,6 +25,7 @@ struct DeviceInfo {
     unsigned compute_units = 0;
     std::uint64_t global_mem = 0;     // bytes
     std::uint64_t max_alloc = 0;      // bytes, largest single buffer
+    std::uint64_t cache_bytes = 0;    // CL_DEVICE_GLOBAL_MEM_CACHE_SIZE (0: none reported)
     bool host_unified = false;        // CL_DEVICE_HOST_UNIFIED_MEMORY
     bool is_gpu = false;
     ::cl::Device device;

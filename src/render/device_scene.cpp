@@ -160,7 +160,10 @@ DeviceScene DeviceScene::upload(const ocl::Device& dev, const Scene& scene, cons
         st.clearance_ms = clear_timer.ms();
         st.cleared_lights = static_cast<std::size_t>(
             std::count_if(clearance.begin(), clearance.end(), [](float c) { return c > 0.0f; }));
-        s.light_clearance = ocl::Array<float>::upload(dev, clearance, "the light clearances");
+        if (st.cleared_lights > 0)
+            s.light_clearance = ocl::Array<float>::upload(dev, clearance, "the light clearances");
+        else  // Wavefront then compiles shade without it
+            s.light_clearance = ocl::Array<float>::zeros(dev, 0, "a placeholder");
     } else {
         s.light_clearance = ocl::Array<float>::zeros(dev, 0, "a placeholder");
     }

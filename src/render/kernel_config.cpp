@@ -129,6 +129,7 @@ std::string KernelConfig::shade_options() const {
     if (anisotropic) o += " -D WP_HAVE_ANISOTROPY=1";
     if (sample_pairs()) o += " -D WP_HAVE_LIGHT_PAIRS=1";
     if (clear_shadow_ends()) o += " -D WP_HAVE_LIGHT_CLEARANCE=1";
+    if (stream_stores) o += " -D WP_STREAM_STORES=1";
     if (shade_lanes()) o += " -D WP_SHADE_LANES=1";
     return o + replicate_options() + inject_options();
 }

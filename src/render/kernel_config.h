@@ -94,8 +94,13 @@ struct KernelConfig {
     bool light_pairs = false;
     std::shared_ptr<const std::vector<int>> light_partners;  // find_light_partners; null: none
     // Shadow segments end where the light triangle's clearance begins (RenderSettings::
-    // light_clearance; scene/light_clearance.h): see clear_shadow_ends().
+    // light_clearance; scene/light_clearance.h): see clear_shadow_ends(). Wavefront turns
+    // it off again where no light triangle has a clearance (DeviceScene's cleared_lights).
     bool light_clearance = false;
+    // Shade pushes its queues with non-temporal stores (WP_STREAM_STORES, kernels/shared/
+    // compat.h): Wavefront sets it on CPU devices whose cache the pool's queues exceed,
+    // where it was measured faster (performance.md, "Eleventh round"); the same bits.
+    bool stream_stores = false;
 
     bool has(MaterialKind k) const { return kinds.test(static_cast<std::size_t>(k)); }
     // Light sampling is compiled only when something emits (a triangle or the environment)

@@ -95,6 +95,14 @@ Wavefront::Wavefront(ocl::Device& dev, const Scene& scene, const RenderSettings&
     memory_.pixels = pixels;
     memory_.bytes_per_pixel = film_bytes() / pixels;  // film, AOVs, active list and errors
 
+    // Where no light triangle has a clearance (curved emitters only), shade is compiled
+    // without the code that applies it (its array is then a placeholder).
+    if (config_.clear_shadow_ends() && scene_.stats.cleared_lights == 0) config_.light_clearance = false;
+    // On a CPU, shade pushes its queues with non-temporal stores where the pool's queues
+    // cannot stay in the device's cache anyway (the next stage reads them from memory).
+    config_.stream_stores = dev.info.type == "CPU" && memory_.pool_paths * memory_.bytes_per_path > dev.info.cache_bytes;
+    options_ = config_.options();
+
     // Programs (disk-cached), one per stage, each with its slice of the configuration.
     Timer prog_timer;
     HostSpan span("programs");

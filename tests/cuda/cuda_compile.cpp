@@ -51,6 +51,7 @@ namespace {
 const std::string kShipped = [] {
     render::KernelConfig c;
     c.light_clearance = true;
+    c.stream_stores = true;
     return c.shade_options();
 }();
 // The same with every appearance feature of issue 13 on (normals, textures, normal maps,
