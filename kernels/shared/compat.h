@@ -393,10 +393,10 @@ WP_NAMESPACE_END
 
 
 // A store of a scalar or vector that a later stage reads and this one does not (the
-// queues shade pushes). With WP_STREAM_STORES (KernelConfig::stream_stores: CPU devices)
-// a non-temporal store: the line is written without first being read for ownership, which
-// halves the memory traffic of a write that misses the cache (shade's queues: 2^20 paths
-// do not fit it). Else a plain store. The same bits either way.
+// queues shade pushes). With WP_STREAM_STORES (KernelConfig::stream_stores: CPU devices
+// whose cache the pool's queues outgrow) a non-temporal store: the line is written without
+// first being read for ownership, which halves the memory traffic of a write that misses
+// the cache. Else a plain store. The same bits either way.
 #ifndef WP_STREAM_STORES
 #define WP_STREAM_STORES 0
 #endif
