@@ -160,10 +160,9 @@ DeviceScene DeviceScene::upload(const ocl::Device& dev, const Scene& scene, cons
         st.clearance_ms = clear_timer.ms();
         st.cleared_lights = static_cast<std::size_t>(
             std::count_if(clearance.begin(), clearance.end(), [](float c) { return c > 0.0f; }));
-        if (st.cleared_lights > 0)
-            s.light_clearance = ocl::Array<float>::upload(dev, clearance, "the light clearances");
-        else  // Wavefront then compiles shade without it
-            s.light_clearance = ocl::Array<float>::zeros(dev, 0, "a placeholder");
+        // (Wavefront drops it again, and compiles shade without it, where no light has one
+        // and the kernels are specialised.)
+        s.light_clearance = ocl::Array<float>::upload(dev, clearance, "the light clearances");
     } else {
         s.light_clearance = ocl::Array<float>::zeros(dev, 0, "a placeholder");
     }

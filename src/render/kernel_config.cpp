@@ -52,6 +52,7 @@ KernelConfig KernelConfig::with_every_feature() const {
     c.emission = true;
     c.normals = c.textures = c.normal_maps = c.alpha_mask = c.env = c.lens = c.anisotropic = true;
     c.light_pairs = true;
+    c.light_clearance = true;
     return c;
 }
 

@@ -95,7 +95,8 @@ struct KernelConfig {
     std::shared_ptr<const std::vector<int>> light_partners;  // find_light_partners; null: none
     // Shadow segments end where the light triangle's clearance begins (RenderSettings::
     // light_clearance; scene/light_clearance.h): see clear_shadow_ends(). Wavefront turns
-    // it off again where no light triangle has a clearance (DeviceScene's cleared_lights).
+    // it off again where no light triangle has a clearance (DeviceScene's cleared_lights)
+    // and the kernels are specialised; with_every_feature() turns it on.
     bool light_clearance = false;
     // Shade pushes its queues with non-temporal stores (WP_STREAM_STORES, kernels/shared/
     // compat.h): Wavefront sets it on CPU devices whose cache the pool's queues exceed,

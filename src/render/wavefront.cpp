@@ -97,7 +97,13 @@ Wavefront::Wavefront(ocl::Device& dev, const Scene& scene, const RenderSettings&
 
     // Where no light triangle has a clearance (curved emitters only), shade is compiled
     // without the code that applies it (its array is then a placeholder).
-    if (config_.clear_shadow_ends() && scene_.stats.cleared_lights == 0) config_.light_clearance = false;
+    if (config_.clear_shadow_ends() && scene_.stats.cleared_lights == 0 &&
+        settings.kernels == KernelSet::Specialised) {
+        config_.light_clearance = false;
+        scene_.stats.scene_bytes -= scene_.shading.light_clearance.bytes();
+        scene_.shading.light_clearance = ocl::Array<float>::zeros(dev, 0, "a placeholder");
+        scene_.stats.scene_bytes += scene_.shading.light_clearance.bytes();
+    }
     // On a CPU, shade pushes its queues with non-temporal stores where the pool's queues
     // cannot stay in the device's cache anyway (the next stage reads them from memory).
     config_.stream_stores = dev.info.type == "CPU" && memory_.pool_paths * memory_.bytes_per_path > dev.info.cache_bytes;
