@@ -311,5 +311,6 @@ TEST_CASE("render: shade streams its queues only where the pool outgrows the dev
     // A pool whose queues are larger than the cache (at most 2^20 paths fit the limits).
     const std::size_t per_path = render::PathPool::bytes_per_path(true);
     s.pool = static_cast<std::size_t>(std::min<std::uint64_t>(dev.info.cache_bytes / per_path * 2, 1u << 20));
-    if (s.pool * per_path > dev.info.cache_bytes) CHECK(render::Wavefront(dev, scene, s).config().stream_stores);
+    REQUIRE(s.pool * per_path > dev.info.cache_bytes);
+    CHECK(render::Wavefront(dev, scene, s).config().stream_stores);
 }
