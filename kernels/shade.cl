@@ -431,7 +431,7 @@ WP_FN int wp_shade_path(Ray ray, PathState path, Hit hit, WP_GLOBAL const Triang
                 float3 sd = env_sample ? wi * app.env_distance : y - so;
                 float tmax = env_sample ? 1.0f : wp_shadow_tmax(sd, yerr, ln, l_offset);
 #if WP_HAVE_LIGHT_CLEARANCE
-                if (!env_sample) tmax = wp_shadow_end_clear(tmax, sd, y, yerr, lights.clearance[lp]);
+                if (!env_sample) tmax = wp_shadow_end_clear(tmax, sd, y, yerr, ln, lights.clearance[lp]);
 #endif
                 shadow_ray->org = make_float4(so.x, so.y, so.z, 0.0f);
                 shadow_ray->dir = make_float4(sd.x, sd.y, sd.z, tmax);
@@ -1083,7 +1083,7 @@ WP_KERNEL void shade_surface8(WP_SHADE_SURFACE_PARAMS) {
                     const L3 sd = l3_sub(y, so);
 #if WP_HAVE_LIGHT_CLEARANCE
                     const float8 tmax = wp_shadow_end_clear8(wp_shadow_tmax8(sd, yerr, ln, vload8(0, loff)), sd, y,
-                                                             yerr, vload8(0, lcl));
+                                                             yerr, ln, vload8(0, lcl));
 #else
                     const float8 tmax = wp_shadow_tmax8(sd, yerr, ln, vload8(0, loff));
 #endif

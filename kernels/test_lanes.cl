@@ -183,7 +183,7 @@ WP_KERNEL void probe_misc8(int n, WP_GLOBAL const float* in, WP_GLOBAL uint* lan
                      wp_cosine_hemisphere_pdf(nn.z), p.x, p.y, p.z, err.x, err.y, err.z,
                      o.x, o.y, o.z, wp_shadow_tmax(vb - p, err, nn, s),
                      wp_power_heuristic(s, t), wp_light_pdf_solid_angle(s, t, nn.z),
-                     wp_shadow_end_clear(wp_shadow_tmax(vb - p, err, nn, s), vb - p, vc, err, t),
+                     wp_shadow_end_clear(wp_shadow_tmax(vb - p, err, nn, s), vb - p, vc, err, nn, t),
                      0.0f, 0.0f, 0.0f, 0.0f};
         for (int k = 2; k < 32; ++k) r[k] = f[k - 2];
         for (int k = 0; k < 32; ++k) scalar[(8 * i + l) * 32 + k] = as_uint(r[k]);
@@ -204,7 +204,7 @@ WP_KERNEL void probe_misc8(int n, WP_GLOBAL const float* in, WP_GLOBAL uint* lan
                   wp_cosine_hemisphere_pdf8(nn.z), p.x, p.y, p.z, err.x, err.y, err.z,
                   o.x, o.y, o.z, wp_shadow_tmax8(l3_sub(vb, p), err, nn, s),
                   wp_power_heuristic8(s, t), wp_light_pdf_solid_angle8(s, t, nn.z),
-                  wp_shadow_end_clear8(wp_shadow_tmax8(l3_sub(vb, p), err, nn, s), l3_sub(vb, p), vc, err, t),
+                  wp_shadow_end_clear8(wp_shadow_tmax8(l3_sub(vb, p), err, nn, s), l3_sub(vb, p), vc, err, nn, t),
                   (float8)(0.0f), (float8)(0.0f), (float8)(0.0f), (float8)(0.0f)};
     for (int k = 2; k < 32; ++k) r[k] = f[k - 2];
     for (int k = 0; k < 32; ++k) {

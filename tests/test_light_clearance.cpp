@@ -226,12 +226,14 @@ std::vector<float> clearances_of(const Scene& s) {
 
 TEST_CASE("light clearance: the clearances of made scenes follow their geometry", "[unit]") {
     {
-        // The built-in box: its light 2 cm under the ceiling, the walls farther away.
+        // The built-in box: its light 2 cm under the ceiling (behind it: no limit), both
+        // triangles reaching its left edge x = -0.24, 0.76 from the left wall (the right wall
+        // 0.77, the back wall 0.78, the objects below farther).
         const Scene box = make_cornell_box(2000);
         const std::vector<float> c = clearances_of(box);
         const std::vector<int> lights = emitting(box);
         REQUIRE(lights.size() == 2);
-        const double gap = 2.0 - double(1.98f);
+        const double gap = 1.0 - double(0.24f);
         for (int l : lights) {
             const glm::uvec3 t = box.triangles[std::size_t(l)];
             double edge = 0.0;
@@ -243,13 +245,58 @@ TEST_CASE("light clearance: the clearances of made scenes follow their geometry"
         for (std::size_t i = 0; i < c.size(); ++i)
             if (!box.triangle_emits(i)) REQUIRE(c[i] == 0.0f);
     }
+    auto longest = [](const Scene& s, std::size_t i) {
+        const glm::uvec3 t = s.triangles[i];
+        double e = 0.0;
+        for (int k = 0; k < 3; ++k)
+            e = std::max(e, glm::length(dvec3(s.positions[t[k]]) - dvec3(s.positions[t[(k + 1) % 3]])));
+        return e;
+    };
     {
-        // A sphere light touches triangles outside each triangle's plane: nothing to skip.
+        // A sphere light alone: every other triangle of it lies behind each triangle's plane,
+        // nothing else is near, so each triangle gets the cap.
         Scene s;
         const auto light = s.add_material(emitter());
         const Mesh ball = make_icosphere(glm::vec3(0.0f), 1.0f, 2);
         s.add_mesh(ball.positions, ball.triangles, light);
-        for (float c : clearances_of(s)) CHECK(c == 0.0f);
+        const std::vector<float> c = clearances_of(s);
+        for (std::size_t i = 0; i < c.size(); ++i) {
+            const double edge = longest(s, i);
+            CHECK(double(c[i]) == Approx(0.99 * kClearanceCapEdges * edge - 1e-5 * edge).epsilon(1e-6));
+        }
+        // Turned inside out (each triangle faces the others across the ball): a concave
+        // emitter, whose neighbours at its corners reach in front of it: 0.
+        for (glm::uvec3& t : s.triangles) std::swap(t.y, t.z);
+        for (float f : clearances_of(s)) CHECK(f == 0.0f);
+    }
+    // A glowing unit cube, faces outward, under a plate g above its top that overhangs it:
+    // the top's and the sides' triangles get g (the plate reaches in front of their planes),
+    // the bottom's the cap (the plate and the cube lie behind it).
+    for (const double g : {0.05, 1e-4}) {
+        INFO("gap " << g);
+        Scene s;
+        Material white;
+        white.name = "white";
+        const auto w = s.add_material(white), light = s.add_material(emitter());
+        const glm::vec3 ex(1, 0, 0), ey(0, 1, 0), ez(0, 0, 1);
+        for (const Mesh& f : {make_quad({0, 0, 1}, ex, ey), make_quad({0, 0, 0}, ey, ex), make_quad({0, 0, 0}, ex, ez),
+                              make_quad({0, 1, 0}, ez, ex), make_quad({0, 0, 0}, ez, ey), make_quad({1, 0, 0}, ey, ez)})
+            s.add_mesh(f.positions, f.triangles, light);
+        const Mesh plate = make_quad({-1, -1, float(1.0 + g)}, {3, 0, 0}, {0, 3, 0});
+        s.add_mesh(plate.positions, plate.triangles, w);
+        const std::vector<float> c = clearances_of(s);
+        const std::vector<int> lights = emitting(s);
+        REQUIRE(lights.size() == 12);
+        for (int l : lights) {
+            const glm::uvec3 t = s.triangles[std::size_t(l)];
+            const glm::vec3 a = s.positions[t.x], b = s.positions[t.y], d = s.positions[t.z];
+            const glm::vec3 n = glm::normalize(glm::cross(b - a, d - a));
+            INFO("face normal " << n.x << " " << n.y << " " << n.z);
+            const double edge = longest(s, std::size_t(l));
+            REQUIRE(edge == Approx(std::sqrt(2.0)));
+            const double gap = n.z < -0.5f ? kClearanceCapEdges * edge : double(float(1.0 + g)) - 1.0;
+            CHECK(double(c[std::size_t(l)]) == Approx(0.99 * gap - 1e-5 * edge).epsilon(1e-6));
+        }
     }
     {
         // A quad light (edge 1) facing down, a flush ceiling around it (in its plane: no
@@ -299,8 +346,8 @@ struct Occlusion {
     long segments = 0, cut = 0, blocked = 0, mismatches = 0, mismatches_wide = 0;
 };
 
-// One random scene: a light (a quad of 2 triangles or a coplanar fan) of size `size` at
-// `origin`, turned at random; occluders near it; shadow segments from random receivers in
+// One random scene: a light (a quad of 2 triangles, a coplanar fan, a quad on a box or a
+// sphere) of size `size` at `origin`, turned at random; occluders near it; shadow segments from random receivers in
 // front of it to points sampled on it, traced by brute force with and without the cut.
 void trace_scene(test::Rng& rng, double size, glm::dvec3 origin, Occlusion& o) {
     Scene s;
@@ -311,15 +358,30 @@ void trace_scene(test::Rng& rng, double size, glm::dvec3 origin, Occlusion& o) {
     const dvec3 e1 = glm::normalize(glm::cross(n, std::fabs(n.x) < 0.9 ? dvec3(1, 0, 0) : dvec3(0, 1, 0)));
     const dvec3 e2 = glm::cross(n, e1);  // (e1, e2, n) right-handed: the light faces n
     auto at = [&](double u, double v, double h) { return glm::vec3(origin + size * (u * e1 + v * e2 + h * n)); };
-    // Light: corners (0,0) (1,0) (1,1) (0,1), as a quad or a fan around its centre.
+    // Light: corners (0,0) (1,0) (1,1) (0,1), as a quad, a fan around its centre or the
+    // quad on top of a closed box 0.5 deep behind it; or a convex emitter, a sphere of
+    // diameter 1 under that square touching it at its centre.
     std::vector<glm::vec3> lp;
     std::vector<glm::uvec3> lt;
-    if (rng.uniform() < 0.5f) {
+    const float kind = rng.uniform();
+    if (kind < 0.3f) {
         lp = {at(0, 0, 0), at(1, 0, 0), at(1, 1, 0), at(0, 1, 0)};
         lt = {{0, 1, 2}, {0, 2, 3}};
-    } else {
+    } else if (kind < 0.55f) {
         lp = {at(0.5, 0.5, 0), at(0, 0, 0), at(1, 0, 0), at(1, 1, 0), at(0, 1, 0)};
         lt = {{0, 1, 2}, {0, 2, 3}, {0, 3, 4}, {0, 4, 1}};
+    } else if (kind < 0.8f) {
+        lp = {at(0, 0, 0), at(1, 0, 0), at(1, 1, 0), at(0, 1, 0)};
+        lt = {{0, 1, 2}, {0, 2, 3}};
+        s.add_mesh({at(0, 0, 0), at(1, 0, 0), at(1, 1, 0), at(0, 1, 0), at(0, 0, -0.5), at(1, 0, -0.5),
+                    at(1, 1, -0.5), at(0, 1, -0.5)},
+                   {{4, 6, 5}, {4, 7, 6}, {0, 5, 1}, {0, 4, 5}, {1, 6, 2}, {1, 5, 6}, {2, 7, 3}, {2, 6, 7},
+                    {3, 4, 0}, {3, 7, 4}},
+                   w);
+    } else {
+        const Mesh ball = make_icosphere(at(0.5, 0.5, -0.5), float(0.5 * size), 1);
+        lp = ball.positions;
+        lt = ball.triangles;
     }
     s.add_mesh(lp, lt, light);
     // A flush ceiling around the light (the same plane, up to rounding) half the time.
@@ -357,18 +419,20 @@ void trace_scene(test::Rng& rng, double size, glm::dvec3 origin, Occlusion& o) {
         const float2 bl = wp_sample_triangle_barycentric(rng.uniform(), rng.uniform());
         float3 yerr;
         const float3 y = wp_hit_point(l0, l1, l2, bl.x, bl.y, &yerr);
-        // A receiver in front of the light: 0.01 to 100 light sizes away, any direction
-        // into the front half-space.
+        // A receiver in front of the light triangle: 0.01 to 100 light sizes away, any
+        // direction into its front half-space. One in five behind it instead, which shade
+        // never pushes: the cut must leave those alone (wp_shadow_end_clear's side test).
         dvec3 dir = dvec3(rng.unit_vector());
-        if (glm::dot(dir, n) < 0.0) dir = -dir;
+        const bool behind = rng.uniform() < 0.2f;
+        if ((glm::dot(dir, dvec3(ln.x, ln.y, ln.z)) < 0.0) != behind) dir = -dir;
         const double dist = size * std::pow(10.0, double(rng.uniform(-2.0f, 2.0f)));
         const glm::vec3 pv(dvec3(y.x, y.y, y.z) + dist * dir);
         const float3 org = f3(pv);
         const float3 sd = y - org;
-        if (!(-dot(normalize(sd), ln) > 0.0f)) continue;  // shade.cl pushes no segment
+        if (!behind && !(-dot(normalize(sd), ln) > 0.0f)) continue;  // shade.cl pushes no segment
         const float tmax = wp_shadow_tmax(sd, yerr, ln, wp_triangle_offset(l0, l1, l2));
-        const float cut = wp_shadow_end_clear(tmax, sd, y, yerr, clear[std::size_t(l)]);
-        const float wide = wp_shadow_end_clear(tmax, sd, y, yerr, 4.0f * clear[std::size_t(l)]);
+        const float cut = wp_shadow_end_clear(tmax, sd, y, yerr, ln, clear[std::size_t(l)]);
+        const float wide = wp_shadow_end_clear(tmax, sd, y, yerr, ln, 4.0f * clear[std::size_t(l)]);
         const TriRay r_full = wp_tri_ray(Ray{{org.x, org.y, org.z, 0}, {sd.x, sd.y, sd.z, tmax}});
         const TriRay r_cut = wp_tri_ray(Ray{{org.x, org.y, org.z, 0}, {sd.x, sd.y, sd.z, cut}});
         const TriRay r_wide = wp_tri_ray(Ray{{org.x, org.y, org.z, 0}, {sd.x, sd.y, sd.z, wide}});
@@ -410,8 +474,8 @@ TEST_CASE("hard: shadow segments cut at the light's clearance meet what the whol
     CHECK(o.mismatches_wide > 0);
 }
 
-// The renders: the built-in box (its light cleared) and a lamp under a shade 1e-3 below
-// it, with every NEE estimator, both shade kernels: the same film bit for bit.
+// The renders: the built-in box (its light cleared), a lamp under a shade 1e-3 below it and
+// a sphere light, with every NEE estimator, both shade kernels: the same film bit for bit.
 TEST_CASE("render: shadow segments cut at the light's clearance give the same image bit for bit",
           "[render]") {
     auto render = [](const Scene& scene, render::Sampling sampling, bool lanes, bool clearance,
@@ -431,8 +495,23 @@ TEST_CASE("render: shadow segments cut at the light's clearance give the same im
         render::render_frames(wf, lo, nullptr);
         return wf.film();
     };
+    // A sphere light (the quad light off) inside the box: a convex emitter, every triangle
+    // of it cleared; turned inside out, a concave one with nothing cleared.
+    auto ball_scene = [](bool inside_out) {
+        Scene ball = make_cornell_box(200);
+        Material glow = emitter();
+        const auto m = ball.add_material(glow);
+        Mesh b = make_icosphere(glm::vec3(0.0f, 1.5f, 0.0f), 0.2f, 2);
+        if (inside_out)
+            for (glm::uvec3& t : b.triangles) std::swap(t.y, t.z);
+        ball.add_mesh(b.positions, b.triangles, m);
+        for (std::size_t i = 0; i < ball.triangles.size(); ++i)  // the quad light off
+            if (ball.triangle_emits(i) && ball.material_ids[i] != m) ball.material_ids[i] = ball.material_ids[0];
+        return ball;
+    };
     Scene box = make_cornell_box(2000);
     Scene lamp = make_cornell_box(2000);
+    Scene ball = ball_scene(false);
     {
         Material shade;
         shade.name = "shade";
@@ -440,34 +519,26 @@ TEST_CASE("render: shadow segments cut at the light's clearance give the same im
         const Mesh plate = make_quad({-0.1f, 1.979f, -0.1f}, {0.2f, 0, 0}, {0, 0, 0.2f});
         lamp.add_mesh(plate.positions, plate.triangles, m);
     }
-    for (const Scene* scene : {&box, &lamp})
+    for (const Scene* scene : {&box, &lamp, &ball})
         for (auto sampling : {render::Sampling::Mis, render::Sampling::Nee})
             for (bool lanes : {true, false}) {
-                INFO((scene == &box ? "box" : "lamp") << ", " << render::sampling_name(sampling)
-                                                      << (lanes ? ", lanes" : ", scalar"));
+                INFO((scene == &box ? "box" : scene == &lamp ? "lamp" : "ball")
+                     << ", " << render::sampling_name(sampling) << (lanes ? ", lanes" : ", scalar"));
                 std::size_t on = 0, off = 1;
                 auto a = render(*scene, sampling, lanes, true, &on);
                 auto b = render(*scene, sampling, lanes, false, &off);
-                CHECK(on == 2);
+                CHECK(on == (scene == &ball ? 320u : 2u));
                 CHECK(off == 0);
                 REQUIRE(a.size() == b.size());
                 CHECK(std::memcmp(a.data(), b.data(), a.size() * sizeof(FilmPixel)) == 0);
             }
-    // Compiled only where some light has a clearance: the box's, not a sphere light's.
+    // Compiled only where some light has a clearance: the box's, not an inside-out sphere's.
     render::RenderSettings s;
     s.width = 8;
     s.height = 6;
     CHECK(render::Wavefront(test::device(), box, s).config().clear_shadow_ends());
-    Scene ball = make_cornell_box(200);
-    {
-        Material glow = emitter();
-        const auto m = ball.add_material(glow);
-        const Mesh b = make_icosphere(glm::vec3(0.0f, 1.0f, 0.0f), 0.2f, 2);
-        ball.add_mesh(b.positions, b.triangles, m);
-        for (std::size_t i = 0; i < ball.triangles.size(); ++i)  // the quad light off
-            if (ball.triangle_emits(i) && ball.material_ids[i] != m) ball.material_ids[i] = ball.material_ids[0];
-    }
-    render::Wavefront wf(test::device(), ball, s);
+    const Scene hollow = ball_scene(true);
+    render::Wavefront wf(test::device(), hollow, s);
     CHECK(wf.stats().light_triangles > 0);
     CHECK(wf.stats().cleared_lights == 0);
     CHECK_FALSE(wf.config().clear_shadow_ends());

@@ -103,12 +103,12 @@ WP_FN float8 wp_shadow_tmax8(L3 sd, L3 yerr, L3 ln, float8 tri_offset) {
     float8 dt = h / fabs(l3_dot(sd, ln));
     return select((float8)(0.5f), 1.0f - dt, dt < 0.5f);
 }
-WP_FN float8 wp_shadow_end_clear8(float8 tmax, L3 sd, L3 y, L3 yerr, float8 clearance) {
+WP_FN float8 wp_shadow_end_clear8(float8 tmax, L3 sd, L3 y, L3 yerr, L3 ln, float8 clearance) {
     L3 a = l3_abs(sd), b = l3_abs(y);
     float8 s = fmax(a.x, fmax(a.y, a.z)) + fmax(b.x, fmax(b.y, b.z));
     float8 reach = clearance - ((yerr.x + yerr.y) + yerr.z) - (64.0f * 5.9604645e-8f) * s;
     float8 t = fmax(1.0f - reach / sqrt(l3_dot(sd, sd)), 0.0f);
-    return select(tmax, fmin(tmax, t), reach > 0.0f);
+    return select(tmax, fmin(tmax, t), (reach > 0.0f) & (l3_dot(sd, ln) < 0.0f) & (tmax > 0.5f));
 }
 
 // sampling.h

@@ -151,19 +151,21 @@ WP_FN float wp_shadow_tmax(float3 sd, float3 yerr, float3 ln, float tri_offset) 
 }
 
 // The end moved back to where the segment comes within `clearance` of the light point y
-// (error bound yerr): the light triangle's clearance (scene/light_clearance.h), the
-// distance from it to the nearest triangle outside its plane; 0 for none. The stretch cut
-// off lies within the clearance of the light, where only triangles in its plane are, and
-// those the end above never reaches: the same occlusion, without the light's own leaf. The
-// reach is the clearance less y's error and 64 eps of the coordinates (the hits' error in
-// t, far below; the host already kept 1 % of the clearance back). At most tmax; 0 (no
-// hits) where the whole segment lies within it.
-WP_FN float wp_shadow_end_clear(float tmax, float3 sd, float3 y, float3 yerr, float clearance) {
+// (error bound yerr) on a light triangle of unit normal ln: the triangle's clearance
+// (scene/light_clearance.h), the distance from it to the nearest triangle that reaches in
+// front of its plane; 0 for none. The stretch cut off lies within the clearance of the
+// light, where only triangles in its plane or behind it are, and a segment from the front
+// (sd . ln < 0) whose end keeps a full offset before the plane (tmax not at its floor of
+// 1/2, wp_shadow_tmax) never reaches those: the same occlusion, without the light's own
+// part of the BVH. Other segments keep tmax. The reach is the clearance less y's error and
+// 64 eps of the coordinates (the hits' error in t, far below; the host already kept 1 % of
+// the clearance back). At most tmax; 0 (no hits) where the whole segment lies within it.
+WP_FN float wp_shadow_end_clear(float tmax, float3 sd, float3 y, float3 yerr, float3 ln, float clearance) {
     float3 a = fabs(sd), b = fabs(y);
     float s = fmax(a.x, fmax(a.y, a.z)) + fmax(b.x, fmax(b.y, b.z));
     float reach = clearance - ((yerr.x + yerr.y) + yerr.z) - (64.0f * 5.9604645e-8f) * s;
     float t = fmax(1.0f - reach / sqrt(dot(sd, sd)), 0.0f);
-    return reach > 0.0f ? fmin(tmax, t) : tmax;
+    return reach > 0.0f && dot(sd, ln) < 0.0f && tmax > 0.5f ? fmin(tmax, t) : tmax;
 }
 
 WP_NAMESPACE_END

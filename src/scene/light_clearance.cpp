@@ -4,7 +4,9 @@
 #include <bit>
 #include <cmath>
 #include <cstdint>
+#include <future>
 #include <limits>
+#include <thread>
 #include <unordered_map>
 
 namespace wp {
@@ -119,10 +121,17 @@ double box_distance(const Box& a, const Aabb& b) {
     return std::sqrt(s);
 }
 
-// Every vertex of triangle t within tol of the plane through p with unit normal n.
-bool in_plane(const dvec3 t[3], const dvec3& p, const dvec3& n, double tol) {
-    return std::fabs(glm::dot(n, t[0] - p)) <= tol && std::fabs(glm::dot(n, t[1] - p)) <= tol &&
-           std::fabs(glm::dot(n, t[2] - p)) <= tol;
+// Every vertex of triangle t at most tol in front of the plane through p with unit normal n
+// (in the plane, or behind it).
+bool behind(const dvec3 t[3], const dvec3& p, const dvec3& n, double tol) {
+    return glm::dot(n, t[0] - p) <= tol && glm::dot(n, t[1] - p) <= tol && glm::dot(n, t[2] - p) <= tol;
+}
+
+// Every point of box b at most tol in front of that plane.
+bool behind(const Aabb& b, const dvec3& p, const dvec3& n, double tol) {
+    double s = 0.0;
+    for (int k = 0; k < 3; ++k) s += n[k] * ((n[k] > 0.0 ? double(b.hi[k]) : double(b.lo[k])) - p[k]);
+    return s <= tol;
 }
 
 std::uint64_t position_key(const glm::vec3& p) {
@@ -167,42 +176,42 @@ std::vector<float> light_clearances(const Scene& scene, const bvh::Bvh& bvh, std
         for (int k = 0; k < 3; ++k) t[k] = dvec3(scene.positions[v[k]]);
     };
     // The light triangles at each vertex position: a light that shares a corner with one
-    // outside its plane (every triangle of a curved emitter) has clearance 0 without a search.
+    // reaching in front of its plane (a concave emitter's fold) has clearance 0 without a
+    // search.
     std::unordered_multimap<std::uint64_t, int> at_corner;
     at_corner.reserve(lights.size() * 3);
     for (const int light : lights)
         for (int k = 0; k < 3; ++k)
             at_corner.emplace(position_key(scene.positions[scene.triangles[static_cast<std::size_t>(light)][k]]), light);
-    std::vector<int> stack;
-    for (const int light : lights) {
+    auto clearance = [&](const int light, std::vector<int>& stack) -> float {
         dvec3 l[3];
         corners(static_cast<std::size_t>(light), l);
         const double edge = longest_edge(l);
         const dvec3 cr = glm::cross(l[1] - l[0], l[2] - l[0]);
         const double len = glm::length(cr);
-        if (!(len > 0.0) || !std::isfinite(edge)) continue;  // no plane: clearance 0
-        const dvec3 n = cr / len;
+        if (!(len > 0.0) || !std::isfinite(edge)) return 0.0f;  // no plane: clearance 0
+        const dvec3 n = cr / len;  // the front: the emitting side
         const double plane_tol = 1e-7 * edge;
         Box box{glm::min(l[0], glm::min(l[1], l[2])), glm::max(l[0], glm::max(l[1], l[2]))};
-        bool touches = false;
-        for (int k = 0; k < 3 && !touches; ++k) {
+        for (int k = 0; k < 3; ++k) {
             const glm::vec3 corner = scene.positions[scene.triangles[static_cast<std::size_t>(light)][k]];
             const auto range = at_corner.equal_range(position_key(corner));
-            for (auto it = range.first; it != range.second && !touches; ++it) {
+            for (auto it = range.first; it != range.second; ++it) {
                 if (it->second == light) continue;
                 dvec3 t[3];
                 corners(static_cast<std::size_t>(it->second), t);
-                touches = !in_plane(t, l[0], n, plane_tol) &&
-                          (t[0] == dvec3(corner) || t[1] == dvec3(corner) || t[2] == dvec3(corner));
+                if (!behind(t, l[0], n, plane_tol) &&
+                    (t[0] == dvec3(corner) || t[1] == dvec3(corner) || t[2] == dvec3(corner)))
+                    return 0.0f;
             }
         }
-        if (touches) continue;
-        double best = edge;  // the cap: beyond it a shorter segment gains nothing measurable
+        double best = kClearanceCapEdges * edge;  // the cap (light_clearance.h)
         stack.assign(1, 0);
         while (!stack.empty() && best > 0.0) {
             const bvh::Node& node = bvh.nodes[static_cast<std::size_t>(stack.back())];
             stack.pop_back();
-            if (box_distance(box, node.box) >= best) continue;
+            // A box wholly behind L's plane holds nothing the segment can meet.
+            if (box_distance(box, node.box) >= best || behind(node.box, l[0], n, plane_tol)) continue;
             if (!node.leaf()) {
                 // The nearer child on top: neighbours are found first, and prune the rest.
                 const double dl = box_distance(box, bvh.nodes[static_cast<std::size_t>(node.left)].box);
@@ -216,19 +225,32 @@ std::vector<float> light_clearances(const Scene& scene, const bvh::Bvh& bvh, std
                 if (j == static_cast<std::size_t>(light)) continue;
                 dvec3 t[3];
                 corners(j, t);
-                // Triangles in L's plane cannot be met by a segment that ends before it.
-                if (in_plane(t, l[0], n, plane_tol)) continue;
+                // Triangles in L's plane or behind it cannot be met by a segment that ends
+                // before that plane on its front side.
+                if (behind(t, l[0], n, plane_tol)) continue;
                 best = std::min(best, triangle_distance(l, t));
             }
         }
         // Margins: 1 % and 1e-5 of the edge for the rounding above (each term is within
         // ~1e-6 of the edge of the true distance), then a float no larger than that.
         const double c = 0.99 * best - 1e-5 * edge;
-        if (!(c > 0.0)) continue;
+        if (!(c > 0.0)) return 0.0f;
         float f = static_cast<float>(c);
         if (double(f) > c) f = std::nextafter(f, 0.0f);
-        out[static_cast<std::size_t>(light)] = f;
-    }
+        return f;
+    };
+    // The lights are independent searches of a shared, read-only BVH: one interleaved share
+    // of them per hardware thread.
+    const std::size_t threads = lights.size() < 256 ? 1 : std::max(1u, std::thread::hardware_concurrency());
+    auto share = [&](std::size_t first) {
+        std::vector<int> stack;
+        for (std::size_t i = first; i < lights.size(); i += threads)
+            out[static_cast<std::size_t>(lights[i])] = clearance(lights[i], stack);
+    };
+    std::vector<std::future<void>> others;
+    for (std::size_t t = 1; t < threads; ++t) others.push_back(std::async(std::launch::async, share, t));
+    share(0);
+    for (auto& f : others) f.get();
     return out;
 }
 
