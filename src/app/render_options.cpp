@@ -96,9 +96,10 @@ void add_config_options(CLI::App* c, ConfigArgs& a) {
         ->capture_default_str();
     c->add_option("--light-clearance", a.light_clearance,
                   "on: a shadow ray towards a light triangle ends where its clearance begins "
-                  "(the distance from the light to the nearest triangle outside its plane, "
-                  "found once at load; docs/design.md, \"Light clearance\"), so it skips the "
-                  "light's own neighbourhood, where it can meet nothing; the same image. off: "
+                  "(the distance from the light to the nearest triangle that reaches in front "
+                  "of its plane, found once at load; docs/design.md, \"Light clearance\"), so it "
+                  "skips the light's own neighbourhood, where it can meet nothing; the same "
+                  "image. off: "
                   "every shadow ray runs up to the light's plane (less its error bound)")
         ->capture_default_str();
     c->add_option("--final-rays", a.final_rays,

@@ -95,7 +95,7 @@ Wavefront::Wavefront(ocl::Device& dev, const Scene& scene, const RenderSettings&
     memory_.pixels = pixels;
     memory_.bytes_per_pixel = film_bytes() / pixels;  // film, AOVs, active list and errors
 
-    // Where no light triangle has a clearance (curved emitters only), shade is compiled
+    // Where no light triangle has a clearance (concave emitters only), shade is compiled
     // without the code that applies it (its array is then a placeholder).
     if (config_.clear_shadow_ends() && scene_.stats.cleared_lights == 0 &&
         settings.kernels == KernelSet::Specialised) {

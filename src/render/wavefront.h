@@ -86,7 +86,7 @@ struct RenderSettings {
     // triangle the table picked (the estimator before pairs).
     bool light_pairs = true;
     // Shadow segments towards a light triangle end where its clearance begins, the distance
-    // to the nearest triangle outside its plane (scene/light_clearance.h): the same
+    // to the nearest triangle in front of its plane (scene/light_clearance.h): the same
     // occlusion, fewer triangle tests next to the light. Off: they run up to the light's
     // plane (less the error bound), as before.
     bool light_clearance = true;
