@@ -9,10 +9,14 @@
 //         keeps its pixel, sample and item), radiance[i] = 0 (the sample's radiance, filled
 //         by shade and shadow), counters on NaN/Inf
 // pushes  all `count` paths: queue_count[0] = count
-// Launched over count items (padded); items past it return at once. The pixel jitter comes
+// Launched over count items (padded; ceil(count / 8) with WP_GENERATE_LANES); items past it
+// return at once. The pixel jitter comes
 // from the sample key (rng.h: seed, pixel, sample), so the rays do not depend on the wave.
 // WP_HAVE_LENS (KernelConfig: the camera has a thin lens) compiles the lens sample (group
 // WP_RNG_LENS); without it, or with lens radius 0, the rays are the pinhole's bit for bit.
+// WP_GENERATE_LANES (KernelConfig::generate_lanes(): CPU devices; OpenCL only) makes each
+// work-item generate eight consecutive items, their jitter drawn in vector lanes
+// (rng_lanes.h), and the host launch ceil(count / 8) work-items: the same rays bit for bit.
 #include "shared/camera.h"
 #include "shared/film.h"
 #include "shared/rng.h"
@@ -20,16 +24,22 @@
 #ifndef WP_HAVE_LENS
 #define WP_HAVE_LENS 0
 #endif
+#ifndef WP_GENERATE_LANES
+#define WP_GENERATE_LANES 0
+#endif
+#if WP_GENERATE_LANES
+#include "shared/rng_lanes.h"
+#endif
 
-// The camera ray and fresh path of item i: sample `sample` of pixel p.
-WP_FN void wp_generate_item(CameraData camera, uint seed, int i, int p, uint sample,
-                            WP_GLOBAL Ray* rays, WP_GLOBAL PathState* paths,
+// The camera ray and fresh path of item i: sample `sample` of pixel p, (ux, uy) the first
+// two numbers of wp_rng4(seed, p, sample, 0, WP_RNG_CAMERA).
+WP_FN void wp_generate_item(CameraData camera, uint seed, int i, int p, uint sample, float ux,
+                            float uy, WP_GLOBAL Ray* rays, WP_GLOBAL PathState* paths,
                             WP_GLOBAL float4* radiance, WP_GLOBAL int* counters) {
     int y = p / camera.width, x = p - y * camera.width;
 
     // Position inside the pixel: random with jitter, else its centre.
-    float4 u = wp_rng4(seed, (uint)p, sample, 0u, WP_RNG_CAMERA);
-    float jx = camera.jitter ? u.x : 0.5f, jy = camera.jitter ? u.y : 0.5f;
+    float jx = camera.jitter ? ux : 0.5f, jy = camera.jitter ? uy : 0.5f;
     float px = (float)x + jx, py = (float)y + jy;
     float3 org = wp_xyz(camera.origin), d;
 #if WP_HAVE_LENS
@@ -64,20 +74,59 @@ WP_FN void wp_generate_item(CameraData camera, uint seed, int i, int p, uint sam
     radiance[i] = make_float4(0.0f, 0.0f, 0.0f, 0.0f);
 }
 
+#if WP_GENERATE_LANES
+// The items i0 .. i0 + 7 (those below count) of pixels p[l] and samples sample[l]: their
+// jitter as eight lanes, the rest item by item. Lanes past count hold valid keys (their
+// numbers are drawn and dropped).
+WP_FN void wp_generate_items8(CameraData camera, uint seed, int i0, int count, const int* p,
+                              const uint* sample, WP_GLOBAL Ray* rays, WP_GLOBAL PathState* paths,
+                              WP_GLOBAL float4* radiance, WP_GLOBAL int* counters) {
+    float8 ux, uy, uz, uw;
+    wp_rng4_lanes(seed, vload8(0, (const uint*)p), vload8(0, sample), 0u, WP_RNG_CAMERA, &ux, &uy, &uz,
+                  &uw);
+    float uxa[8], uya[8];
+    vstore8(ux, 0, uxa), vstore8(uy, 0, uya);
+    const int m = min(8, count - i0);
+    for (int l = 0; l < m; ++l)
+        wp_generate_item(camera, seed, i0 + l, p[l], sample[l], uxa[l], uya[l], rays, paths, radiance,
+                         counters);
+}
+#endif
+
 WP_KERNEL void generate_camera(CameraData camera, uint seed, int first_pixel, uint first_sample,
                                int count, WP_GLOBAL Ray* rays, WP_GLOBAL PathState* paths,
                                WP_GLOBAL float4* radiance, WP_GLOBAL int* queue_count,
                                WP_GLOBAL int* counters) {
+    int n = camera.width * camera.height;
+#if WP_GENERATE_LANES
+    const int i0 = wp_global_id() * 8;
+    if (i0 >= count) return;
+    if (i0 == 0) queue_count[0] = count;
+    // Pixel and sample of item i0 (as below), then one pixel further per lane.
+    int s = first_pixel + i0;
+    int pass = s / n;
+    int pl = s - pass * n;
+    int p[8];
+    uint sample[8];
+    for (int l = 0; l < 8; ++l) {
+        p[l] = pl;
+        sample[l] = first_sample + (uint)pass;
+        if (++pl == n) pl = 0, ++pass;
+    }
+    wp_generate_items8(camera, seed, i0, count, p, sample, rays, paths, radiance, counters);
+#else
     int i = wp_global_id();
     if (i >= count) return;
     if (i == 0) queue_count[0] = count;
-    int n = camera.width * camera.height;
     // Pixel and sample of item i (no div/rem pair: LLVM fuses it behind a `freeze`, which
     // Oclgrind cannot check).
     int s = first_pixel + i;
     int pass = s / n;
     int p = s - pass * n;
-    wp_generate_item(camera, seed, i, p, first_sample + (uint)pass, rays, paths, radiance, counters);
+    uint sample = first_sample + (uint)pass;
+    float4 u = wp_rng4(seed, (uint)p, sample, 0u, WP_RNG_CAMERA);
+    wp_generate_item(camera, seed, i, p, sample, u.x, u.y, rays, paths, radiance, counters);
+#endif
 }
 
 // generate_camera_active — the same for adaptive sampling (render/adaptive.h): the wave's
@@ -91,12 +140,31 @@ WP_KERNEL void generate_camera_active(CameraData camera, uint seed, WP_GLOBAL co
                                       WP_GLOBAL Ray* rays, WP_GLOBAL PathState* paths,
                                       WP_GLOBAL float4* radiance, WP_GLOBAL int* queue_count,
                                       WP_GLOBAL int* counters) {
+#if WP_GENERATE_LANES
+    const int i0 = wp_global_id() * 8;
+    if (i0 >= count) return;
+    if (i0 == 0) queue_count[0] = count;
+    int s = first + i0;
+    int pass = s / active_count;
+    int l0 = s - pass * active_count;
+    int p[8];
+    uint sample[8];
+    for (int l = 0; l < 8; ++l) {
+        p[l] = active[l0];
+        sample[l] = first_sample + (uint)pass;
+        if (++l0 == active_count) l0 = 0, ++pass;
+    }
+    wp_generate_items8(camera, seed, i0, count, p, sample, rays, paths, radiance, counters);
+#else
     int i = wp_global_id();
     if (i >= count) return;
     if (i == 0) queue_count[0] = count;
     int s = first + i;
     int pass = s / active_count;
     int l = s - pass * active_count;
-    wp_generate_item(camera, seed, i, active[l], first_sample + (uint)pass, rays, paths, radiance,
-                     counters);
+    int p = active[l];
+    uint sample = first_sample + (uint)pass;
+    float4 u = wp_rng4(seed, (uint)p, sample, 0u, WP_RNG_CAMERA);
+    wp_generate_item(camera, seed, i, p, sample, u.x, u.y, rays, paths, radiance, counters);
+#endif
 }

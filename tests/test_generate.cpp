@@ -27,12 +27,24 @@ struct GenerateOut {
     std::vector<int> counters;
 };
 
+// The stage with one item per work-item (GPUs, the CUDA port) or eight (lanes: CPUs).
+render::GenerateStage& generate_stage(bool lanes) {
+    auto make = [](bool l) {
+        render::KernelConfig c;
+        c.generate_lanes = l;
+        return render::GenerateStage(test::device(), c);
+    };
+    static render::GenerateStage scalar = make(false), eight = make(true);
+    return lanes ? eight : scalar;
+}
+
 // Runs the generate stage through its launcher: a wave of `count` samples from
-// (first_pixel, sample); count = 0 means one whole pass.
+// (first_pixel, sample); count = 0 means one whole pass. With `active`: generate_camera_active
+// over that pixel list from entry first_pixel on.
 GenerateOut run_generate(const CameraData& cam, cl_uint seed, cl_uint sample, int first_pixel = 0,
-                         int count = 0) {
+                         int count = 0, bool lanes = false, const std::vector<int>* active = nullptr) {
     auto& dev = test::device();
-    static render::GenerateStage stage(dev, render::KernelConfig{});
+    render::GenerateStage& stage = generate_stage(lanes);
     const int n = cam.width * cam.height;
     if (count == 0) count = n;
     const auto items = static_cast<std::size_t>(count);
@@ -43,7 +55,13 @@ GenerateOut run_generate(const CameraData& cam, cl_uint seed, cl_uint sample, in
     auto radiance = ocl::Array<float4>::upload(dev, std::vector<float4>(items, float4{7, 7, 7, 7}),
                                                "radiance");  // generate must clear it
     auto counters = ocl::Array<int>::zeros(dev, WP_COUNTER_COUNT, "counters");
-    stage.enqueue(cam, seed, first_pixel, sample, count, q, radiance, counters);
+    if (active) {
+        auto list = ocl::Array<int>::upload(dev, *active, "active pixels");
+        stage.enqueue_active(cam, seed, list, first_pixel, static_cast<int>(active->size()), sample, count, q,
+                             radiance, counters);
+    } else {
+        stage.enqueue(cam, seed, first_pixel, sample, count, q, radiance, counters);
+    }
     GenerateOut out;
     out.rays = q.rays.read(dev);
     out.paths = q.paths.read(dev);
@@ -176,5 +194,56 @@ TEST_CASE("generate: a wave of several passes or part of one gives each sample t
         REQUIRE(chunk.paths[i].sample == 5u);
         REQUIRE(chunk.paths[i].item == i);
         REQUIRE(std::memcmp(&chunk.rays[i], &single[1].rays[50 + i], sizeof(Ray)) == 0);
+    }
+}
+
+TEST_CASE("generate: eight items per work-item give each item the ray and path of one item per "
+          "work-item", "[kernel][generate]") {
+    // The lane kernel (CPUs) against the scalar one (GPUs, the CUDA port), and both against
+    // the wave definition: item i is sample s = first + i of the pass sequence. Counts that
+    // are not multiples of 8, images smaller than 8 pixels (a lane group spans passes), both
+    // samplers' default (Sobol) with jitter, and the active-pixel list.
+    Camera c = test_camera();
+    struct Case {
+        int w, h, first, count;
+    };
+    const Case cases[] = {{16, 12, 0, 16 * 12}, {16, 12, 50, 37}, {3, 2, 0, 3 * 6 + 5}, {1, 1, 0, 11},
+                          {16, 12, 5, 2 * 16 * 12 + 3}};
+    for (const Case& k : cases) {
+        INFO(k.w << "x" << k.h << " first " << k.first << " count " << k.count);
+        CameraData cam = upload_camera(c, k.w, k.h, /*jitter=*/true);
+        const int n = k.w * k.h;
+        GenerateOut a = run_generate(cam, 21, 3, k.first, k.count, false);
+        GenerateOut b = run_generate(cam, 21, 3, k.first, k.count, true);
+        CHECK(b.count == k.count);
+        CHECK(b.counters[WP_COUNTER_GENERATE_NONFINITE] == 0);
+        for (int i = 0; i < k.count; ++i) {
+            const int s = k.first + i;
+            REQUIRE(b.paths[i].pixel == s % n);
+            REQUIRE(b.paths[i].sample == cl_uint(3 + s / n));
+            REQUIRE(b.paths[i].item == i);
+            REQUIRE(b.radiance[i].x == 0.0f);
+            REQUIRE(std::memcmp(&a.rays[i], &b.rays[i], sizeof(Ray)) == 0);
+            REQUIRE(std::memcmp(&a.paths[i], &b.paths[i], sizeof(PathState)) == 0);
+        }
+    }
+    // generate_camera_active: item i is list entry (first + i) mod size of pass (first + i) /
+    // size, with the ray of a whole pass at that pixel and sample.
+    CameraData cam = upload_camera(c, 16, 12, /*jitter=*/true);
+    const std::vector<int> active = {3, 4, 17, 90, 91, 92, 150, 151, 191, 0, 64};
+    const int first = 4, count = 3 * 11 + 2, m = static_cast<int>(active.size());
+    std::vector<GenerateOut> passes;
+    for (cl_uint s = 7; s < 11; ++s) passes.push_back(run_generate(cam, 21, s));
+    for (bool lanes : {false, true}) {
+        INFO("lanes " << lanes);
+        GenerateOut g = run_generate(cam, 21, 7, first, count, lanes, &active);
+        CHECK(g.count == count);
+        for (int i = 0; i < count; ++i) {
+            const int e = first + i, p = active[e % m], pass = e / m;
+            REQUIRE(g.paths[i].pixel == p);
+            REQUIRE(g.paths[i].sample == cl_uint(7 + pass));
+            REQUIRE(g.paths[i].item == i);
+            REQUIRE(std::memcmp(&g.rays[i], &passes[pass].rays[p], sizeof(Ray)) == 0);
+        }
     }
 }

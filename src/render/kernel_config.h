@@ -88,6 +88,9 @@ struct KernelConfig {
     int inject_period = 97;
     // Lanes allowed (RenderSettings::shade_lanes on a CPU device): see shade_lanes().
     bool lanes = false;
+    // Generate eight items per work-item, their jitter in vector lanes (a CPU device;
+    // kernels/generate.cl WP_GENERATE_LANES): the same rays bit for bit.
+    bool generate_lanes = false;
     // Some light triangle has a back-to-back partner (scene/light_pairs.h), and the render
     // uses them (RenderSettings::light_pairs): see sample_pairs(). from_scene keeps the
     // partners it found for the light table (DeviceScene), so they are searched once.

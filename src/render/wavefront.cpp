@@ -58,6 +58,7 @@ KernelConfig make_config(const ocl::Device& dev, const Scene& scene, const Rende
     if (s.kernels == KernelSet::Generic) c = c.with_every_feature();
     // Eight paths per work-item suit a CPU's vector units; a GPU wants one per thread.
     c.lanes = s.shade_lanes && dev.info.type == "CPU";
+    c.generate_lanes = dev.info.type == "CPU";
     c.light_pairs = c.light_pairs && s.light_pairs;
     c.light_clearance = s.light_clearance;
     c.replicates = s.replicates;

@@ -30,7 +30,10 @@ class GenerateStage {
     const ocl::Program& program() const { return program_; }
 
   private:
+    std::size_t work_items(int count) const;  // the launch size for `count` items
+
     ocl::LaunchTarget target_;
+    bool lanes_ = false;  // KernelConfig::generate_lanes
     ocl::Program program_;
     ocl::Kernel kernel_;
     ocl::Kernel active_;
