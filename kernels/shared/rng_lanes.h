@@ -69,10 +69,7 @@ WP_FN void wp_sobol4_reversed_lanes(uint8 j, uint8* x0, uint8* x1, uint8* x2, ui
 
 // The four numbers wp_rng4(seed, pixel[l], sample[l], bounce, group) of lanes l = 0..7,
 // as four float8 (x: first number of every lane, y: second, ...). Same bits as wp_rng4.
-// Always inlined: each call site uses only some of the four numbers (the light draw three,
-// diffuse and glossy scattering two, Russian roulette one), and only inlined do the unused
-// dimensions' scrambles and bit reversals drop out.
-__attribute__((always_inline)) WP_FN void wp_rng4_lanes(uint seed, uint8 pixel, uint8 sample, uint bounce, uint group,
+WP_FN void wp_rng4_lanes(uint seed, uint8 pixel, uint8 sample, uint bounce, uint group,
                          float8* x, float8* y, float8* z, float8* w) {
     uint key = bounce * (uint)WP_RNG_GROUPS + group;
     uint8 r0, r1, r2, r3;
