@@ -16,7 +16,7 @@
 // WP_RNG_LENS); without it, or with lens radius 0, the rays are the pinhole's bit for bit.
 // WP_GENERATE_LANES (KernelConfig::generate_lanes(): CPU devices; OpenCL only) makes each
 // work-item generate eight consecutive items, their jitter drawn in vector lanes
-// (rng_lanes.h), and the host launch ceil(count / 8) work-items: the same rays bit for bit.
+// (rng_lanes.h, wp_rng2_lanes), and the host launch ceil(count / 8) work-items: the same rays bit for bit.
 #include "shared/camera.h"
 #include "shared/film.h"
 #include "shared/rng.h"
@@ -81,9 +81,8 @@ WP_FN void wp_generate_item(CameraData camera, uint seed, int i, int p, uint sam
 WP_FN void wp_generate_items8(CameraData camera, uint seed, int i0, int count, const int* p,
                               const uint* sample, WP_GLOBAL Ray* rays, WP_GLOBAL PathState* paths,
                               WP_GLOBAL float4* radiance, WP_GLOBAL int* counters) {
-    float8 ux, uy, uz, uw;
-    wp_rng4_lanes(seed, vload8(0, (const uint*)p), vload8(0, sample), 0u, WP_RNG_CAMERA, &ux, &uy, &uz,
-                  &uw);
+    float8 ux, uy;
+    wp_rng2_lanes(seed, vload8(0, (const uint*)p), vload8(0, sample), 0u, WP_RNG_CAMERA, &ux, &uy);
     float uxa[8], uya[8];
     vstore8(ux, 0, uxa), vstore8(uy, 0, uya);
     const int m = min(8, count - i0);

@@ -1097,8 +1097,14 @@ WP_KERNEL void shade_surface8(WP_SHADE_SURFACE_PARAMS) {
 #endif
 
             // Scatter: each lane samples its material (wp_bsdf_sample_pdf).
-            float8 ux, uy, uz, uw;
+            // The lane kinds' samplers read two numbers; the scalar kinds' all four.
+            float8 ux, uy;
+#if WP_LANES_SCALAR_KINDS
+            float8 uz, uw;
             wp_rng4_lanes(seed, pixel, sample, (uint)bounce, WP_RNG_BSDF, &ux, &uy, &uz, &uw);
+#else
+            wp_rng2_lanes(seed, pixel, sample, (uint)bounce, WP_RNG_BSDF, &ux, &uy);
+#endif
 #if WP_SAMPLING == WP_SAMPLING_UNIFORM
             const L3 lv = wp_sample_uniform_hemisphere8(ux, uy);
             L3 weight = l3_scale(albedo, 2.0f * lv.z);
@@ -1165,8 +1171,7 @@ WP_KERNEL void shade_surface8(WP_SHADE_SURFACE_PARAMS) {
             // Russian roulette: survive with q = min(1, max component of the throughput).
             if (bounce >= WP_RR_DEPTH) {
                 const float8 q = min(1.0f, l3_max_component(beta));
-                float8 rx, ry, rz, rw;
-                wp_rng4_lanes(seed, pixel, sample, (uint)bounce, WP_RNG_RR, &rx, &ry, &rz, &rw);
+                const float8 rx = wp_rng1_lanes(seed, pixel, sample, (uint)bounce, WP_RNG_RR);
                 alive &= rx < q;
                 beta = l3_scale(beta, 1.0f / q);
             }

@@ -81,6 +81,31 @@ WP_KERNEL void probe_rng4_lanes(uint seed, int n, WP_GLOBAL const uint* pixel,
 #endif
 }
 
+// wp_rng2_lanes and wp_rng1_lanes on the keys of probe_rng4_lanes, as raw bits: lane l of
+// item i writes rng2's x and y to out[24 i + l] and out[24 i + 8 + l] and rng1's number to
+// out[24 i + 16 + l] (tests/test_sampling.cpp compares them with the host's wp_rng4).
+WP_KERNEL void probe_rng_narrow_lanes(uint seed, int n, WP_GLOBAL const uint* pixel,
+                                      WP_GLOBAL const uint* sample, WP_GLOBAL const uint* bounce,
+                                      WP_GLOBAL const uint* group, WP_GLOBAL uint* out) {
+    int i = wp_global_id();
+    if (i >= n) return;
+#if defined(WP_OPENCL)
+    float8 x, y;
+    wp_rng2_lanes(seed, vload8(i, pixel), vload8(i, sample), bounce[i], group[i], &x, &y);
+    vstore8(as_uint8(x), 3 * i + 0, out);
+    vstore8(as_uint8(y), 3 * i + 1, out);
+    vstore8(as_uint8(wp_rng1_lanes(seed, vload8(i, pixel), vload8(i, sample), bounce[i], group[i])), 3 * i + 2,
+            out);
+#else
+    for (int l = 0; l < 8; ++l) {
+        float4 u = wp_rng4(seed, pixel[8 * i + l], sample[8 * i + l], bounce[i], group[i]);
+        out[24 * i + l] = as_uint(u.x);
+        out[24 * i + 8 + l] = as_uint(u.y);
+        out[24 * i + 16 + l] = as_uint(u.x);
+    }
+#endif
+}
+
 // wp_sincos_2pi(i / n) as raw bits (tests/test_sampling.cpp: the same bits as the host's).
 WP_KERNEL void probe_sincos(int n, WP_GLOBAL uint2* out) {
     int i = wp_global_id();

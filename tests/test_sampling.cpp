@@ -653,6 +653,8 @@ TEST_CASE("sampling: Sobol numbers on the device equal the host's", "[kernel][sa
 // wp_rng4 is compiled for the default sampler (Sobol) and K = 1; the other cases take the
 // same steps from its parts (wp_sobol_rng4 with `replicates`, wp_pcg4d).
 TEST_CASE("sampling: eight-lane rng4 on the device equals the host's scalar rng4", "[kernel][sampling]") {
+    // (and wp_rng2_lanes / wp_rng1_lanes its first two numbers and its first, from the
+    // table-free dimensions 0 and 1)
     auto& dev = test::device();
     const int items = 512;  // 4096 lanes per seed
     // Keys: edge values mixed with pcg4d words; bounce and group uniform per item.
@@ -677,12 +679,17 @@ TEST_CASE("sampling: eight-lane rng4 on the device equals the host's scalar rng4
                                " -D WP_SOBOL_REPLICATES=" + std::to_string(c.replicates);
         ocl::Program prog = ocl::Program::build(dev, "test_sampling.cl", options);
         ocl::Kernel k(prog, "probe_rng4_lanes", "probe.rng4_lanes");
+        ocl::Kernel narrow(prog, "probe_rng_narrow_lanes", "probe.rng_narrow_lanes");
         for (cl_uint seed : {0u, 7u, 0xfeedbeefu, 0xffffffffu}) {
             cl::Buffer out(dev.context, CL_MEM_READ_WRITE, 32 * items * sizeof(uint));
+            cl::Buffer out_narrow(dev.context, CL_MEM_READ_WRITE, 24 * items * sizeof(uint));
             k.launch({&dev.queue}, items, seed, items, pb, sb, bb, gb, out);
-            std::vector<uint> got(32 * items);
+            narrow.launch({&dev.queue}, items, seed, items, pb, sb, bb, gb, out_narrow);
+            std::vector<uint> got(32 * items), got_narrow(24 * items);
             dev.queue.enqueueReadBuffer(out, CL_TRUE, 0, got.size() * sizeof(uint), got.data());
-            int bad = 0, first = -1;
+            dev.queue.enqueueReadBuffer(out_narrow, CL_TRUE, 0, got_narrow.size() * sizeof(uint),
+                                        got_narrow.data());
+            int bad = 0, first = -1, bad_narrow = 0;
             for (int q = 0; q < 8 * items; ++q) {
                 int i = q / 8, l = q % 8;
                 uint b[4];
@@ -706,10 +713,14 @@ TEST_CASE("sampling: eight-lane rng4 on the device equals the host's scalar rng4
                     bad += 1;
                     if (first < 0) first = q;
                 }
+                // wp_rng2_lanes: the first two numbers; wp_rng1_lanes: the first.
+                bad_narrow += got_narrow[24 * i + l] != b[0] || got_narrow[24 * i + 8 + l] != b[1] ||
+                              got_narrow[24 * i + 16 + l] != b[0];
             }
             INFO("sampler " << c.sampler << ", replicates " << c.replicates << ", seed " << seed
                             << ", first differing lane " << first);
             CHECK(bad == 0);
+            CHECK(bad_narrow == 0);
         }
     }
 }
@@ -777,6 +788,16 @@ TEST_CASE("sampling: Sobol points match the direction numbers' recurrence", "[un
         CHECK(got.y == want[1]);
         CHECK(got.z == want[2]);
         CHECK(got.w == want[3]);
+        // Dimensions 0 and 1 without the table (the lanes' wp_rng2_lanes / wp_rng1_lanes),
+        // also at the extreme indices.
+        for (uint idx : {index, ~index, index | 0x80000000u}) {
+            uint2 r2 = wp_sobol2_reversed(wp_reverse_bits(idx));
+            uint w0 = 0u, w1 = 0u;
+            for (int j = 0; j < 32; ++j)
+                if ((idx >> j) & 1u) w0 ^= v[0][j], w1 ^= v[1][j];
+            CHECK(wp_reverse_bits(r2.x) == w0);
+            CHECK(wp_reverse_bits(r2.y) == w1);
+        }
         // The folded Owen scramble equals Burley's listing 3 written out: shuffle the index,
         // then scramble each coordinate, each scramble = reverse(LK(reverse(x))).
         uint seed = state ^ 0x9e3779b9u;

@@ -1,4 +1,5 @@
-// rng_lanes.h — wp_rng4 (rng.h) for eight independent keys at once, as eight-lane vectors.
+// rng_lanes.h — wp_rng4 (rng.h) for eight independent keys at once, as eight-lane vectors,
+// and its first one or two numbers alone (wp_rng1_lanes, wp_rng2_lanes).
 //
 // PoCL vectorises only what a work-item spells out with vector types (NOTES-pocl.md, trap
 // 3), so a work-item that handles eight paths gets their random numbers cheaply only when
@@ -67,53 +68,103 @@ WP_FN void wp_sobol4_reversed_lanes(uint8 j, uint8* x0, uint8* x1, uint8* x2, ui
     *x3 = (uint8)(row[0].w, row[1].w, row[2].w, row[3].w, row[4].w, row[5].w, row[6].w, row[7].w);
 }
 
-// The four numbers wp_rng4(seed, pixel[l], sample[l], bounce, group) of lanes l = 0..7,
-// as four float8 (x: first number of every lane, y: second, ...). Same bits as wp_rng4.
-WP_FN void wp_rng4_lanes(uint seed, uint8 pixel, uint8 sample, uint bounce, uint group,
-                         float8* x, float8* y, float8* z, float8* w) {
-    uint key = bounce * (uint)WP_RNG_GROUPS + group;
-    uint8 r0, r1, r2, r3;
+// wp_uint_to_unit per lane: the top 24 bits, exactly representable, times 2^-24 (exact).
+WP_FN float8 wp_uint_to_unit8(uint8 r) { return convert_float8(r >> 8) * (1.0f / 16777216.0f); }
+
 #if WP_SAMPLER == WP_SAMPLER_SOBOL
-    // wp_sobol_rng4: the scramble seed hashed from (pixel, bounce and group, seed).
-    uint8 scramble, h1, h2, h3;
-    WP_PCG4D_LANES(pixel, key, seed, 0x50b01u, scramble, h1, h2, h3);
+// The first half of wp_sobol_rng4 on eight keys: the scramble seed hashed from (pixel,
+// bounce and group, seed), with replicates the replicate's, and j, the Owen-shuffled index
+// reversed (LK(reverse(index))), which the coordinates are read at.
+WP_FN void wp_sobol_key_lanes(uint seed, uint8 pixel, uint8 sample, uint key, uint8* scramble, uint8* j) {
+    uint8 s, h1, h2, h3;
+    WP_PCG4D_LANES(pixel, key, seed, 0x50b01u, s, h1, h2, h3);
 #if WP_SOBOL_REPLICATES > 1
     {
         // Replicate r = sample mod K: its own scramble (wp_replicate_scramble), point s / K.
         uint8 t1, t2, t3;
-        WP_PCG4D_LANES(scramble, sample & ((uint)WP_SOBOL_REPLICATES - 1u), 0x7e91cu, 0x50b02u,
-                       scramble, t1, t2, t3);
+        WP_PCG4D_LANES(s, sample & ((uint)WP_SOBOL_REPLICATES - 1u), 0x7e91cu, 0x50b02u, s, t1, t2, t3);
     }
     uint8 index = sample / (uint)WP_SOBOL_REPLICATES;
 #else
     uint8 index = sample;
 #endif
-    // wp_sobol_owen4: the shuffled index reversed is LK(reverse(index)); the table gives
-    // the coordinates reversed; each is scrambled with its own seed and reversed back.
-    uint8 j = index;
-    WP_REVERSE_BITS_STEPS(j);
-    WP_LAINE_KARRAS_STEPS(j, scramble);
-    wp_sobol4_reversed_lanes(j, &r0, &r1, &r2, &r3);
-    // wp_hash_combine(scramble, d) for d = 0..3 (the seed terms shared).
-    uint8 mix = (scramble << 6) + (scramble >> 2);
-    uint8 s0 = scramble ^ mix, s1 = scramble ^ (mix + 1u), s2 = scramble ^ (mix + 2u),
-          s3 = scramble ^ (mix + 3u);
-    WP_LAINE_KARRAS_STEPS(r0, s0);
-    WP_LAINE_KARRAS_STEPS(r1, s1);
-    WP_LAINE_KARRAS_STEPS(r2, s2);
-    WP_LAINE_KARRAS_STEPS(r3, s3);
-    WP_REVERSE_BITS_STEPS(r0);
-    WP_REVERSE_BITS_STEPS(r1);
-    WP_REVERSE_BITS_STEPS(r2);
-    WP_REVERSE_BITS_STEPS(r3);
-#else
-    WP_PCG4D_LANES(pixel, sample, key, seed, r0, r1, r2, r3);
+    WP_REVERSE_BITS_STEPS(index);
+    WP_LAINE_KARRAS_STEPS(index, s);
+    *scramble = s;
+    *j = index;
+}
+
+// Dimension d's number from its bit-reversed coordinate r: the scramble of
+// wp_sobol_owen4 (seed wp_hash_combine(scramble, d), Laine-Karras, reversed back), then
+// wp_uint_to_unit.
+WP_FN float8 wp_sobol_finish_lanes(uint8 r, uint8 scramble, uint d) {
+    uint8 s = scramble ^ (d + (scramble << 6) + (scramble >> 2));
+    WP_LAINE_KARRAS_STEPS(r, s);
+    WP_REVERSE_BITS_STEPS(r);
+    return wp_uint_to_unit8(r);
+}
 #endif
-    // wp_uint_to_unit: the top 24 bits, exactly representable, times 2^-24 (exact).
-    *x = convert_float8(r0 >> 8) * (1.0f / 16777216.0f);
-    *y = convert_float8(r1 >> 8) * (1.0f / 16777216.0f);
-    *z = convert_float8(r2 >> 8) * (1.0f / 16777216.0f);
-    *w = convert_float8(r3 >> 8) * (1.0f / 16777216.0f);
+
+// The four numbers wp_rng4(seed, pixel[l], sample[l], bounce, group) of lanes l = 0..7,
+// as four float8 (x: first number of every lane, y: second, ...). Same bits as wp_rng4.
+WP_FN void wp_rng4_lanes(uint seed, uint8 pixel, uint8 sample, uint bounce, uint group,
+                         float8* x, float8* y, float8* z, float8* w) {
+    uint key = bounce * (uint)WP_RNG_GROUPS + group;
+#if WP_SAMPLER == WP_SAMPLER_SOBOL
+    uint8 scramble, j, r0, r1, r2, r3;
+    wp_sobol_key_lanes(seed, pixel, sample, key, &scramble, &j);
+    wp_sobol4_reversed_lanes(j, &r0, &r1, &r2, &r3);
+    *x = wp_sobol_finish_lanes(r0, scramble, 0u);
+    *y = wp_sobol_finish_lanes(r1, scramble, 1u);
+    *z = wp_sobol_finish_lanes(r2, scramble, 2u);
+    *w = wp_sobol_finish_lanes(r3, scramble, 3u);
+#else
+    uint8 r0, r1, r2, r3;
+    WP_PCG4D_LANES(pixel, sample, key, seed, r0, r1, r2, r3);
+    *x = wp_uint_to_unit8(r0);
+    *y = wp_uint_to_unit8(r1);
+    *z = wp_uint_to_unit8(r2);
+    *w = wp_uint_to_unit8(r3);
+#endif
+}
+
+// The first two numbers of wp_rng4_lanes (the same bits) for draws that use no more: the
+// camera's jitter, a BSDF sample of the lane kinds. With Sobol, dimensions 0 and 1 come
+// from bit operations on j (wp_sobol2_reversed, sobol.h) instead of the nibble table, whose
+// eight loads per lane are the table path's cost.
+WP_FN void wp_rng2_lanes(uint seed, uint8 pixel, uint8 sample, uint bounce, uint group, float8* x,
+                         float8* y) {
+    uint key = bounce * (uint)WP_RNG_GROUPS + group;
+#if WP_SAMPLER == WP_SAMPLER_SOBOL
+    uint8 scramble, j;
+    wp_sobol_key_lanes(seed, pixel, sample, key, &scramble, &j);
+    uint8 r0 = j, r1 = j;
+    WP_REVERSE_BITS_STEPS(r0);
+    WP_SOBOL_DIM1_STEPS(r1);
+    WP_REVERSE_BITS_STEPS(r1);
+    *x = wp_sobol_finish_lanes(r0, scramble, 0u);
+    *y = wp_sobol_finish_lanes(r1, scramble, 1u);
+#else
+    uint8 r0, r1, r2, r3;
+    WP_PCG4D_LANES(pixel, sample, key, seed, r0, r1, r2, r3);
+    *x = wp_uint_to_unit8(r0);
+    *y = wp_uint_to_unit8(r1);
+#endif
+}
+
+// The first number of wp_rng4_lanes (the same bits): Russian roulette.
+WP_FN float8 wp_rng1_lanes(uint seed, uint8 pixel, uint8 sample, uint bounce, uint group) {
+    uint key = bounce * (uint)WP_RNG_GROUPS + group;
+#if WP_SAMPLER == WP_SAMPLER_SOBOL
+    uint8 scramble, j;
+    wp_sobol_key_lanes(seed, pixel, sample, key, &scramble, &j);
+    WP_REVERSE_BITS_STEPS(j);
+    return wp_sobol_finish_lanes(j, scramble, 0u);
+#else
+    uint8 r0, r1, r2, r3;
+    WP_PCG4D_LANES(pixel, sample, key, seed, r0, r1, r2, r3);
+    return wp_uint_to_unit8(r0);
+#endif
 }
 
 #undef WP_PCG4D_LANES

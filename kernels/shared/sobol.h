@@ -170,6 +170,20 @@ WP_CONSTANT_TABLE uint wp_sobol_nibbles[128][4] = {
     x ^= x * 0xc7afe638u;              \
     x ^= x * 0x8d22f6e6u
 
+// Dimension 1 (polynomial x + 1: Pascal's matrix mod 2) of wp_sobol4_reversed without the
+// table: its column for bit t of j has bit b set when b & t == 0, so bit b of the reversed
+// coordinate is the XOR of j's bits t with t & b == 0. The five steps give bit m of x the
+// XOR of j's bits t whose index is a subset of m's (a subset-XOR transform over the five
+// index bits); reversed, bit b holds that of m = 31 - b = ~b, i.e. of every t & b == 0.
+// Dimension 0 (van der Corput) is reverse(j) itself. wp_sobol2_reversed gives both;
+// tests/test_sampling.cpp checks them against the table.
+#define WP_SOBOL_DIM1_STEPS(x)      \
+    x ^= (x & 0x55555555u) << 1;    \
+    x ^= (x & 0x33333333u) << 2;    \
+    x ^= (x & 0x0f0f0f0fu) << 4;    \
+    x ^= (x & 0x00ff00ffu) << 8;    \
+    x ^= (x & 0x0000ffffu) << 16
+
 WP_FN uint wp_reverse_bits(uint x) {
     WP_REVERSE_BITS_STEPS(x);
     return x;
@@ -203,6 +217,15 @@ WP_FN uint4 wp_sobol4_reversed(uint j) {
     }
     return make_uint4(x0, x1, x2, x3);
 #endif
+}
+
+// The first two coordinates of wp_sobol4_reversed(j), without the table (above).
+WP_FN uint2 wp_sobol2_reversed(uint j) {
+    uint x0 = j, x1 = j;
+    WP_REVERSE_BITS_STEPS(x0);
+    WP_SOBOL_DIM1_STEPS(x1);
+    WP_REVERSE_BITS_STEPS(x1);
+    return make_uint2(x0, x1);
 }
 
 WP_FN uint wp_laine_karras_permutation(uint x, uint seed) {
