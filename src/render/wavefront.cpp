@@ -31,6 +31,10 @@ void validate(const RenderSettings& s) {
         fail("replicates {} must be a power of two in 1..{}", s.replicates, limits::kMaxReplicates);
 }
 
+bool stream_queues(const ocl::DeviceInfo& device, std::uint64_t queue_bytes) {
+    return device.type == "CPU" && device.cache_bytes > 0 && queue_bytes > device.cache_bytes;
+}
+
 int next_error_check(int passes, int min_spp, int replicates) {
     const long long k = std::max(replicates, 1);
     auto round_up = [k](long long v) { return (v + k - 1) / k * k; };
@@ -105,9 +109,7 @@ Wavefront::Wavefront(ocl::Device& dev, const Scene& scene, const RenderSettings&
         scene_.shading.light_clearance = ocl::Array<float>::zeros(dev, 0, "a placeholder");
         scene_.stats.scene_bytes += scene_.shading.light_clearance.bytes();
     }
-    // On a CPU, shade pushes its queues with non-temporal stores where the pool's queues
-    // cannot stay in the device's cache anyway (the next stage reads them from memory).
-    config_.stream_stores = dev.info.type == "CPU" && memory_.pool_paths * memory_.bytes_per_path > dev.info.cache_bytes;
+    config_.stream_stores = stream_queues(dev.info, std::uint64_t(memory_.pool_paths) * memory_.bytes_per_path);
     options_ = config_.options();
 
     // Programs (disk-cached), one per stage, each with its slice of the configuration.

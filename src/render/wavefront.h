@@ -125,6 +125,11 @@ int next_error_check(int passes, int min_spp, int replicates = 1);
 // Throws wp::Error naming the setting when a value is outside limits.h.
 void validate(const RenderSettings& s);
 
+// Whether shade pushes its queues with non-temporal stores (KernelConfig::stream_stores): on
+// a CPU device, where the pool's queue_bytes exceed the cache it reports (the next stage
+// reads them from memory anyway). A GPU, or a device that reports no cache, never streams.
+bool stream_queues(const ocl::DeviceInfo& device, std::uint64_t queue_bytes);
+
 class Wavefront {
   public:
     Wavefront(ocl::Device& dev, const Scene& scene, const RenderSettings& settings);
