@@ -55,21 +55,28 @@ WP_KERNEL void probe_rng4(uint seed, int n, WP_GLOBAL uint4* out) {
 
 // wp_rng4_lanes for eight keys per item, as raw bits: lane l of item i has the key (seed,
 // pixel[8 i + l], sample[8 i + l], bounce[i], group[i]) and writes component c to
-// out[32 i + 8 c + l] (tests/test_sampling.cpp compares them with the host's wp_rng4).
-// The function is OpenCL-only; CUDA and the host run the scalar function per lane.
+// out[32 i + 8 c + l]; wp_rng2_lanes' two numbers go to narrow[24 i + l] and
+// narrow[24 i + 8 + l], wp_rng1_lanes' one to narrow[24 i + 16 + l]
+// (tests/test_sampling.cpp compares them with the host's wp_rng4).
+// The functions are OpenCL-only; CUDA and the host run the scalar function per lane.
 WP_KERNEL void probe_rng4_lanes(uint seed, int n, WP_GLOBAL const uint* pixel,
                                 WP_GLOBAL const uint* sample, WP_GLOBAL const uint* bounce,
-                                WP_GLOBAL const uint* group, WP_GLOBAL uint* out) {
+                                WP_GLOBAL const uint* group, WP_GLOBAL uint* out,
+                                WP_GLOBAL uint* narrow) {
     int i = wp_global_id();
     if (i >= n) return;
 #if defined(WP_OPENCL)
     float8 x, y, z, w;
-    wp_rng4_lanes(seed, vload8(i, pixel), vload8(i, sample), bounce[i], group[i], &x, &y, &z,
-                  &w);
+    const uint8 p = vload8(i, pixel), s = vload8(i, sample);
+    wp_rng4_lanes(seed, p, s, bounce[i], group[i], &x, &y, &z, &w);
     vstore8(as_uint8(x), 4 * i + 0, out);
     vstore8(as_uint8(y), 4 * i + 1, out);
     vstore8(as_uint8(z), 4 * i + 2, out);
     vstore8(as_uint8(w), 4 * i + 3, out);
+    wp_rng2_lanes(seed, p, s, bounce[i], group[i], &x, &y);
+    vstore8(as_uint8(x), 3 * i + 0, narrow);
+    vstore8(as_uint8(y), 3 * i + 1, narrow);
+    vstore8(as_uint8(wp_rng1_lanes(seed, p, s, bounce[i], group[i])), 3 * i + 2, narrow);
 #else
     for (int l = 0; l < 8; ++l) {
         float4 u = wp_rng4(seed, pixel[8 * i + l], sample[8 * i + l], bounce[i], group[i]);
@@ -77,31 +84,8 @@ WP_KERNEL void probe_rng4_lanes(uint seed, int n, WP_GLOBAL const uint* pixel,
         out[32 * i + 8 + l] = as_uint(u.y);
         out[32 * i + 16 + l] = as_uint(u.z);
         out[32 * i + 24 + l] = as_uint(u.w);
-    }
-#endif
-}
-
-// wp_rng2_lanes and wp_rng1_lanes on the keys of probe_rng4_lanes, as raw bits: lane l of
-// item i writes rng2's x and y to out[24 i + l] and out[24 i + 8 + l] and rng1's number to
-// out[24 i + 16 + l] (tests/test_sampling.cpp compares them with the host's wp_rng4).
-WP_KERNEL void probe_rng_narrow_lanes(uint seed, int n, WP_GLOBAL const uint* pixel,
-                                      WP_GLOBAL const uint* sample, WP_GLOBAL const uint* bounce,
-                                      WP_GLOBAL const uint* group, WP_GLOBAL uint* out) {
-    int i = wp_global_id();
-    if (i >= n) return;
-#if defined(WP_OPENCL)
-    float8 x, y;
-    wp_rng2_lanes(seed, vload8(i, pixel), vload8(i, sample), bounce[i], group[i], &x, &y);
-    vstore8(as_uint8(x), 3 * i + 0, out);
-    vstore8(as_uint8(y), 3 * i + 1, out);
-    vstore8(as_uint8(wp_rng1_lanes(seed, vload8(i, pixel), vload8(i, sample), bounce[i], group[i])), 3 * i + 2,
-            out);
-#else
-    for (int l = 0; l < 8; ++l) {
-        float4 u = wp_rng4(seed, pixel[8 * i + l], sample[8 * i + l], bounce[i], group[i]);
-        out[24 * i + l] = as_uint(u.x);
-        out[24 * i + 8 + l] = as_uint(u.y);
-        out[24 * i + 16 + l] = as_uint(u.x);
+        narrow[24 * i + l] = narrow[24 * i + 16 + l] = as_uint(u.x);
+        narrow[24 * i + 8 + l] = as_uint(u.y);
     }
 #endif
 }
