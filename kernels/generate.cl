@@ -16,7 +16,8 @@
 // WP_RNG_LENS); without it, or with lens radius 0, the rays are the pinhole's bit for bit.
 // WP_GENERATE_LANES (KernelConfig::generate_lanes(): CPU devices; OpenCL only) makes each
 // work-item generate eight consecutive items, their jitter drawn in vector lanes
-// (rng_lanes.h, wp_rng2_lanes), and the host launch ceil(count / 8) work-items: the same rays bit for bit.
+// (rng_lanes.h, wp_rng2_lanes), and the host launch ceil(count / 8) work-items: the same
+// rays bit for bit.
 #include "shared/camera.h"
 #include "shared/film.h"
 #include "shared/rng.h"

@@ -314,8 +314,8 @@ TEST_CASE("render: shade streams its queues only where the pool outgrows the dev
     CHECK_FALSE(render::stream_queues(unknown, std::uint64_t(1) << 32));
 
     // The renderer applies it to the pool it allocates: a small pool, and the automatic
-    // limit of 2^20 paths (212 MiB: above a CI machine's 32 MiB, below a VM's reported
-    // 480 MiB of L3, so the expected answer depends on the device).
+    // limit of 2^20 paths (212 MiB: above the 8-32 MiB of L3 of some CI machines, below
+    // another VM's reported 480 MiB, so the expected answer depends on the device).
     auto& dev = test::device();
     const Scene scene = make_cornell_box(200);
     render::RenderSettings s;

@@ -68,6 +68,15 @@ WP_FN void wp_sobol4_reversed_lanes(uint8 j, uint8* x0, uint8* x1, uint8* x2, ui
     *x3 = (uint8)(row[0].w, row[1].w, row[2].w, row[3].w, row[4].w, row[5].w, row[6].w, row[7].w);
 }
 
+// wp_sobol2_reversed (sobol.h) on eight indices: dimensions 0 and 1, bit-reversed, no table.
+WP_FN void wp_sobol2_reversed_lanes(uint8 j, uint8* x0, uint8* x1) {
+    uint8 a = j, b = j;
+    WP_REVERSE_BITS_STEPS(a);
+    WP_SOBOL_DIM1_STEPS(b);
+    WP_REVERSE_BITS_STEPS(b);
+    *x0 = a, *x1 = b;
+}
+
 // wp_uint_to_unit per lane: the top 24 bits, exactly representable, times 2^-24 (exact).
 WP_FN float8 wp_uint_to_unit8(uint8 r) { return convert_float8(r >> 8) * (1.0f / 16777216.0f); }
 
@@ -130,18 +139,15 @@ WP_FN void wp_rng4_lanes(uint seed, uint8 pixel, uint8 sample, uint bounce, uint
 
 // The first two numbers of wp_rng4_lanes (the same bits) for draws that use no more: the
 // camera's jitter, a BSDF sample of the lane kinds. With Sobol, dimensions 0 and 1 come
-// from bit operations on j (wp_sobol2_reversed, sobol.h) instead of the nibble table, whose
+// from bit operations on j (wp_sobol2_reversed_lanes) instead of the nibble table, whose
 // eight loads per lane are the table path's cost.
 WP_FN void wp_rng2_lanes(uint seed, uint8 pixel, uint8 sample, uint bounce, uint group, float8* x,
                          float8* y) {
     uint key = bounce * (uint)WP_RNG_GROUPS + group;
 #if WP_SAMPLER == WP_SAMPLER_SOBOL
-    uint8 scramble, j;
+    uint8 scramble, j, r0, r1;
     wp_sobol_key_lanes(seed, pixel, sample, key, &scramble, &j);
-    uint8 r0 = j, r1 = j;
-    WP_REVERSE_BITS_STEPS(r0);
-    WP_SOBOL_DIM1_STEPS(r1);
-    WP_REVERSE_BITS_STEPS(r1);
+    wp_sobol2_reversed_lanes(j, &r0, &r1);
     *x = wp_sobol_finish_lanes(r0, scramble, 0u);
     *y = wp_sobol_finish_lanes(r1, scramble, 1u);
 #else
@@ -158,7 +164,7 @@ WP_FN float8 wp_rng1_lanes(uint seed, uint8 pixel, uint8 sample, uint bounce, ui
 #if WP_SAMPLER == WP_SAMPLER_SOBOL
     uint8 scramble, j;
     wp_sobol_key_lanes(seed, pixel, sample, key, &scramble, &j);
-    WP_REVERSE_BITS_STEPS(j);
+    WP_REVERSE_BITS_STEPS(j);  // dimension 0, bit-reversed (wp_sobol2_reversed_lanes' first)
     return wp_sobol_finish_lanes(j, scramble, 0u);
 #else
     uint8 r0, r1, r2, r3;

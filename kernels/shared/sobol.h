@@ -176,7 +176,8 @@ WP_CONSTANT_TABLE uint wp_sobol_nibbles[128][4] = {
 // XOR of j's bits t whose index is a subset of m's (a subset-XOR transform over the five
 // index bits); reversed, bit b holds that of m = 31 - b = ~b, i.e. of every t & b == 0.
 // Dimension 0 (van der Corput) is reverse(j) itself. wp_sobol2_reversed gives both;
-// tests/test_sampling.cpp checks them against the table.
+// tests/test_sampling.cpp checks them against the direction numbers' recurrence, and the
+// lane draws built on them against the table's wp_rng4.
 #define WP_SOBOL_DIM1_STEPS(x)      \
     x ^= (x & 0x55555555u) << 1;    \
     x ^= (x & 0x33333333u) << 2;    \
