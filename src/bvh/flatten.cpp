@@ -1,6 +1,9 @@
 #include "bvh/flatten.h"
 
 #include <algorithm>
+#include <array>
+#include <cstdint>
+#include <limits>
 #include <cfloat>
 #include <cmath>
 
@@ -51,36 +54,104 @@ struct Flattener {
         set_child(dn, slot, none, false);
     }
 
-    // The (up to) four host nodes under interior host node `index`: its two children,
-    // then repeatedly the interior one of largest surface area replaced by its children.
-    std::vector<int> gather(int index) const {
-        const Node& n = bvh.nodes[index];
-        std::vector<int> kids = {n.left, n.right};
-        while (static_cast<int>(kids.size()) < WP_BVH_WIDTH) {
-            int best = -1;
-            float best_area = -1.0f;
-            for (int k = 0; k < static_cast<int>(kids.size()); ++k) {
-                const Node& c = bvh.nodes[kids[k]];
-                if (!c.leaf() && c.box.half_area() > best_area) {
-                    best_area = c.box.half_area();
-                    best = k;
-                }
-            }
-            if (best < 0) break;
-            const Node& c = bvh.nodes[kids[best]];
-            kids[best] = c.left;
-            kids.insert(kids.begin() + best + 1, c.right);
-        }
-        return kids;
+    // The collapse plan of one host node (Ylitie, Karras & Laine, "Efficient Incoherent Ray
+    // Traversal on GPUs Through Compressed Wide BVHs", HPG 2017, section 4): for every slot
+    // budget i = 1..W, the cheapest way to hang the subtree into at most i slots of a wide
+    // node, under the SAH with a cost per wide-node visit and per triangle test.
+    //   one[i]: the subtree takes one slot (then `leaf` says how: one leaf of all its
+    //           triangles, or an interior wide node of its own);
+    //   k[i]:   otherwise its left child gets k[i] slots and its right child i - k[i].
+    struct Plan {
+        std::uint16_t one = 0;  // bit i: the subtree takes one slot when given i
+        bool leaf = false;
+        std::int8_t k[WP_BVH_WIDTH + 1] = {};
+    };
+    std::vector<Plan> plan;
+    std::vector<int> sub_first, sub_count;  // each host subtree's range of prim_order
+    FlattenOptions opt;
+
+    static double area(const Aabb& b) {  // in double: huge scenes would overflow float
+        double ex = static_cast<double>(b.hi.x) - b.lo.x, ey = static_cast<double>(b.hi.y) - b.lo.y,
+               ez = static_cast<double>(b.hi.z) - b.lo.z;
+        return std::max(0.0, ex * ey + ey * ez + ez * ex);
     }
 
-    // Emits interior host node `index` as a device node; returns its index.
+    using Costs = std::array<double, WP_BVH_WIDTH + 1>;  // [i]: at most i slots (i >= 1)
+
+    // Plans the subtree under host node n (post order); returns its costs.
+    Costs plan_node(int n) {
+        const Node& nd = bvh.nodes[n];
+        Plan& pl = plan[n];
+        Costs c{};
+        const double a = area(nd.box);
+        if (nd.leaf()) {
+            sub_first[n] = nd.first;
+            sub_count[n] = nd.count;
+            pl.leaf = true;
+            for (int i = 1; i <= WP_BVH_WIDTH; ++i) {
+                c[i] = a * opt.tri_cost * nd.count;
+                pl.one |= static_cast<std::uint16_t>(1u << i);
+            }
+            return c;
+        }
+        const Costs cl = plan_node(nd.left), cr = plan_node(nd.right);
+        sub_first[n] = sub_first[nd.left];
+        sub_count[n] = sub_count[nd.left] + sub_count[nd.right];
+        Costs dist{};  // [i >= 2]: both children, i slots between them
+        for (int i = 2; i <= WP_BVH_WIDTH; ++i) {
+            dist[i] = std::numeric_limits<double>::infinity();
+            for (int k = 1; k < i; ++k) {
+                double v = cl[k] + cr[i - k];
+                if (v < dist[i] || k == 1) {
+                    dist[i] = v;
+                    pl.k[i] = static_cast<std::int8_t>(k);
+                }
+            }
+        }
+        const double interior = a * opt.node_cost + dist[WP_BVH_WIDTH];
+        double one = interior;
+        if (sub_count[n] <= opt.max_leaf) {
+            const double leaf = a * opt.tri_cost * sub_count[n];
+            if (leaf <= interior) {
+                one = leaf;
+                pl.leaf = true;
+            }
+        }
+        c[1] = one;
+        pl.one |= 2u;
+        for (int i = 2; i <= WP_BVH_WIDTH; ++i) {
+            if (one <= dist[i]) {
+                c[i] = one;
+                pl.one |= static_cast<std::uint16_t>(1u << i);
+            } else {
+                c[i] = dist[i];
+            }
+        }
+        return c;
+    }
+
+    // The host subtrees that fill the slots of host node n given i slots, left to right.
+    void collect(int n, int i, std::vector<int>& out) const {
+        const Node& nd = bvh.nodes[n];
+        if (nd.leaf() || (plan[n].one >> i) & 1u) {
+            out.push_back(n);
+            return;
+        }
+        collect(nd.left, plan[n].k[i], out);
+        collect(nd.right, i - plan[n].k[i], out);
+    }
+
+    // Emits interior host node `index` as a device node (its subtree spread over the
+    // WP_BVH_WIDTH slots as planned); returns its index.
     int emit(int index, int parent, int slot, int level) {
         max_level = std::max(max_level, level);
         int di = static_cast<int>(out.nodes.size());
         out.nodes.push_back({});
         out.links.push_back({parent, slot});
-        std::vector<int> kids = gather(index);
+        std::vector<int> kids;
+        const Node& nd = bvh.nodes[index];
+        collect(nd.left, plan[index].k[WP_BVH_WIDTH], kids);
+        collect(nd.right, WP_BVH_WIDTH - plan[index].k[WP_BVH_WIDTH], kids);
         BvhNode dn{};
         for (int s = 0; s < WP_BVH_WIDTH; ++s) {
             if (s < static_cast<int>(kids.size())) set_child(dn, s, bvh.nodes[kids[s]].box);
@@ -89,8 +160,8 @@ struct Flattener {
         }
         out.nodes[di] = dn;
         for (int s = 0; s < static_cast<int>(kids.size()); ++s) {
-            const Node& c = bvh.nodes[kids[s]];
-            int ref = c.leaf() ? leaf_ref(c.first, c.count) : emit(kids[s], di, s, level + 1);
+            const int m = kids[s];
+            int ref = plan[m].leaf ? leaf_ref(sub_first[m], sub_count[m]) : emit(m, di, s, level + 1);
             (&out.nodes[di].child0)[s] = ref;
         }
         return di;
@@ -114,7 +185,8 @@ std::vector<Aabb> triangle_boxes(std::span<const glm::vec3> positions, std::span
     return boxes;
 }
 
-FlatBvh flatten(const Bvh& bvh, std::span<const glm::vec3> positions, std::span<const glm::uvec3> indices) {
+FlatBvh flatten(const Bvh& bvh, std::span<const glm::vec3> positions, std::span<const glm::uvec3> indices,
+                const FlattenOptions& options) {
     FlatBvh out;
     // Triangles in leaf order, .w lanes 0.
     out.triangles.resize(bvh.prim_order.size());
@@ -129,7 +201,13 @@ FlatBvh flatten(const Bvh& bvh, std::span<const glm::vec3> positions, std::span<
         out.triangles[i] = {v(0), v(1), v(2)};
         out.prim_ids[i] = static_cast<int>(p);
     }
-    Flattener f{bvh, out};
+    if (options.max_leaf < 1 || options.max_leaf > WP_LEAF_MAX_COUNT)
+        fail("BVH flatten: max_leaf {} outside 1..{}", options.max_leaf, WP_LEAF_MAX_COUNT);
+    if (!(options.node_cost > 0.0f && options.tri_cost > 0.0f && std::isfinite(options.node_cost) &&
+          std::isfinite(options.tri_cost)))
+        fail("BVH flatten: costs must be positive and finite (node {}, triangle {})", options.node_cost,
+             options.tri_cost);
+    Flattener f{bvh, out, 0, {}, {}, {}, options};
     if (bvh.nodes.empty() || bvh.nodes[0].leaf()) {
         // Root leaf (or nothing): one device node holding the leaf in slot 0.
         BvhNode dn{};
@@ -146,6 +224,10 @@ FlatBvh flatten(const Bvh& bvh, std::span<const glm::vec3> positions, std::span<
         out.depth = 1;
         return out;
     }
+    f.plan.resize(bvh.nodes.size());
+    f.sub_first.resize(bvh.nodes.size());
+    f.sub_count.resize(bvh.nodes.size());
+    f.plan_node(0);
     out.nodes.reserve(bvh.nodes.size() / 3 + 1);
     out.links.reserve(bvh.nodes.size() / 3 + 1);
     f.emit(0, -1, 0, 1);

@@ -1,9 +1,15 @@
 // flatten.h — the host BVH turned into the device layout of kernels/shared/types.h.
 //
 // The binary SAH tree is collapsed into a WP_BVH_WIDTH-wide BVH (8; 4 is the other
-// setting of the switch in types.h): each device node takes the two children of a binary
-// node, then repeatedly replaces the interior child of largest surface area by its two
-// children until it has WP_BVH_WIDTH (or only leaves are left). Children keep the binary
+// setting of the switch in types.h) by the SAH-optimal collapse of Ylitie, Karras & Laine
+// (HPG 2017): a dynamic program over the binary tree finds, for every subtree and every
+// budget of 1..W slots, the cheapest way to spread it over that many slots of a wide node
+// (a slot holds one leaf of the subtree's triangles, at most FlattenOptions::max_leaf, or
+// one wide node of its own), with FlattenOptions' costs per wide-node visit and per
+// triangle test, each weighted by the surface area of the box that leads to it. A greedy
+// collapse (open the largest interior child until eight) left 1,261 of the built-in box's
+// 2,749 nodes with two children; this one gives 1,431 nodes, 23 of them with two
+// (docs/performance.md). Children keep the binary
 // tree's left-to-right order. Interior nodes are numbered in depth-first order from the
 // root (0). Layout, field by field (kernels/shared/types.h has the authoritative text):
 //   nodes[i] (BvhNode, 256 bytes for width 8, 128 for width 4):
@@ -48,7 +54,17 @@ struct FlatBvh {
 // One box per triangle, for build().
 std::vector<Aabb> triangle_boxes(std::span<const glm::vec3> positions, std::span<const glm::uvec3> indices);
 
-FlatBvh flatten(const Bvh& bvh, std::span<const glm::vec3> positions, std::span<const glm::uvec3> indices);
+// The collapse's SAH costs (relative to each other; measured on PoCL, docs/performance.md:
+// tri_cost 0.3, 0.5 and 1 trace within 2 % of each other on the built-in box).
+struct FlattenOptions {
+    float node_cost = 1.0f;  // one wide-node visit: WP_BVH_WIDTH box tests together
+    float tri_cost = 0.5f;   // one triangle test
+    int max_leaf = 8;        // triangles in a leaf that merges binary leaves (1..WP_LEAF_MAX_COUNT);
+                             // a binary leaf itself is never split
+};
+
+FlatBvh flatten(const Bvh& bvh, std::span<const glm::vec3> positions, std::span<const glm::uvec3> indices,
+                const FlattenOptions& options = {});
 
 // The BVH of the triangles indices[subset[k]] alone (built and flattened as above), its
 // prim_ids naming them by their index in `indices` (the subset's values): the emitters' BVH
