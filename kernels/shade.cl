@@ -36,7 +36,11 @@
 // or MIS) the light sampling; WP_RR_DEPTH the first bounce at which Russian roulette may
 // end a path (< 0: off); WP_HAVE_NORMALS, WP_HAVE_TEXTURES, WP_HAVE_NORMAL_MAPS and
 // WP_HAVE_ENV the appearance features (all 0 without options: a scene without them
-// compiles none of their code).
+// compiles none of their code). WP_SHADE_TRACES_SHADOWS (shade_surface8 only; KernelConfig::
+// shade_traces_shadows: the lane kernel with light sampling) makes the kernel trace its own
+// shadow rays (below, at shade_surface8) through the BVH passed after its other arguments
+// (bvh_nodes, bvh_links, bvh_tris, bvh_prim_ids: the intersect stage's), so nothing goes
+// into the shadow queue but the count in shadow_count.
 // Emission is one-sided: only the front face (counter-clockwise winding normal) emits.
 // Shading normals shape the BSDF only; geometric normals decide sides, ray offsets and
 // which directions are reflections (shading.h lists the failure modes and their guards).
@@ -510,6 +514,17 @@ WP_FN void wp_push_shadow(WP_GLOBAL Ray* ray_q, WP_GLOBAL int* item_q, WP_GLOBAL
     WP_STORE_STREAM(contrib_q, contrib);
 }
 
+#ifndef WP_SHADE_TRACES_SHADOWS
+#define WP_SHADE_TRACES_SHADOWS 0
+#endif
+#if WP_SHADE_TRACES_SHADOWS
+#include "shared/bvh_traverse.h"
+#define WP_SHADE_BVH_PARAMS \
+    , WP_GLOBAL const BvhNode *bvh_nodes, WP_GLOBAL const BvhLinks *bvh_links, \
+        WP_GLOBAL const Triangle *bvh_tris, WP_GLOBAL const int *bvh_prim_ids
+#else
+#define WP_SHADE_BVH_PARAMS
+#endif
 // The parameters of shade_surface and shade_surface8 (the host passes the same arguments
 // to either: render/stages/shade.cpp).
 #define WP_SHADE_SURFACE_PARAMS \
@@ -533,7 +548,7 @@ WP_FN void wp_push_shadow(WP_GLOBAL Ray* ray_q, WP_GLOBAL int* item_q, WP_GLOBAL
     uint seed, int bounce, int max_depth, WP_GLOBAL float4* radiance, \
     WP_GLOBAL int* counters, WP_GLOBAL Ray* rays_out, WP_GLOBAL PathState* paths_out, \
     WP_GLOBAL int* count_out, WP_GLOBAL Ray* shadow_rays, WP_GLOBAL int* shadow_items, \
-    WP_GLOBAL float4* shadow_contrib, WP_GLOBAL int* shadow_count
+    WP_GLOBAL float4* shadow_contrib, WP_GLOBAL int* shadow_count WP_SHADE_BVH_PARAMS
 
 // The pushes are aggregated per work-group: every work-item posts what it pushes in a
 // local array, work-item 0 turns that into slots (a prefix sum in work-item order) and
@@ -1193,6 +1208,25 @@ WP_KERNEL void shade_surface8(WP_SHADE_SURFACE_PARAMS) {
     if (push_bits == 0 && shadow_bits == 0) return;
     int slot = push_bits ? wp_atomic_add(count_out, popcount(push_bits)) : 0;
     int shadow_slot = shadow_bits ? wp_atomic_add(shadow_count, popcount(shadow_bits)) : 0;
+#if WP_SHADE_TRACES_SHADOWS
+    // The shadow rays traced here, one after the other, with shadow_trace's any hit and its
+    // update (shadow.cl): the same rays, the same occlusion and, as every emission this
+    // kernel adds for a sample precedes its light sample, the same sums in the same order;
+    // the image is the queued one bit for bit. What it saves (docs/performance.md, "Sixteenth
+    // round"): the 52 bytes a shadow ray takes in the queue, written here and read back by
+    // the shadow stage, and that stage's launch per bounce.
+    (void)shadow_slot;
+    for (uint rest = shadow_bits; rest != 0; rest &= rest - 1) {
+        const int l = wp_ctz32(rest);
+        Ray r;
+        r.org = make_float4(sox[l], soy[l], soz[l], 0.0f);
+        r.dir = make_float4(sdx[l], sdy[l], sdz[l], stm[l]);
+        TraceStats st = {0, 0};
+        const Hit h = wp_trace_any(r, bvh_nodes, bvh_links, bvh_tris, bvh_prim_ids, &st);
+        if (h.prim < 0) radiance[item[l]] += make_float4(scx[l], scy[l], scz[l], 0.0f);
+    }
+    shadow_bits = 0;
+#endif
     for (int l = 0; l < WP_SHADE_LANE_ENTRIES; ++l) {
         if (push_bits & (1u << l)) {
             Ray r;

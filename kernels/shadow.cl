@@ -8,7 +8,8 @@
 //         with WP_HAVE_ALPHA_MASK the alpha test's arguments (bvh_traverse.h), so cut-out
 //         surfaces let light through
 // writes  radiance[item] += shadow_contrib[i] when the segment is unoccluded (any hit,
-//         stackless traversal: bvh_traverse.h); ray_total[0] += shadow_count[0] (work-item 0)
+//         stackless traversal: bvh_traverse.h); the rays are counted by the next
+//         queue_reset (queue.cl)
 // A sample has at most one shadow ray per bounce, so the radiance update needs no atomics
 // and does not depend on the order of the queue.
 #include "shared/bvh_traverse.h"
@@ -17,12 +18,10 @@ WP_KERNEL void shadow_trace(WP_GLOBAL const Ray* shadow_rays, WP_GLOBAL const in
                             WP_GLOBAL const float4* shadow_contrib,
                             WP_GLOBAL const int* shadow_count, WP_GLOBAL const BvhNode* nodes,
                             WP_GLOBAL const BvhLinks* links, WP_GLOBAL const Triangle* tris,
-                            WP_GLOBAL const int* prim_ids, WP_GLOBAL float4* radiance,
-                            WP_GLOBAL ulong* ray_total WP_ALPHA_KERNEL_PARAMS) {
+                            WP_GLOBAL const int* prim_ids,
+                            WP_GLOBAL float4* radiance WP_ALPHA_KERNEL_PARAMS) {
     int i = wp_global_id();
-    int n = shadow_count[0];
-    if (i == 0) ray_total[0] += (ulong)n;
-    if (i >= n) return;
+    if (i >= shadow_count[0]) return;
     WP_ALPHA_SETUP
     TraceStats st = {0, 0};
     Hit h = wp_trace_any(shadow_rays[i], nodes, links, tris, prim_ids, &st WP_ALPHA_ARG);

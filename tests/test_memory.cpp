@@ -132,13 +132,21 @@ TEST_CASE("memory: a render's buffers are the struct sizes times the counts", "[
     Scene scene = make_cornell_box(4000);
     const std::size_t n = scene.triangle_count();
     REQUIRE(n > 4000);
-    for (bool nee : {true, false}) {
+    // Light sampling through the shadow queue, light sampling traced in shade (the lane
+    // kernel on the CPU test device: no shadow queue), no light sampling.
+    struct Mode {
+        bool nee, in_shade;
+    };
+    for (const Mode mode : {Mode{true, false}, Mode{true, true}, Mode{false, false}}) {
+        const bool nee = mode.nee, queue = mode.nee && !mode.in_shade;
         render::RenderSettings s;
         s.width = 64;
         s.height = 48;
         s.estimator.sampling = nee ? render::Sampling::Mis : render::Sampling::Uniform;
+        s.shadows_in_shade = mode.in_shade;
         render::Wavefront wf(test::device(), scene, s);
         REQUIRE(wf.config().nee() == nee);
+        REQUIRE(wf.config().shadow_queue() == queue);
         const render::MemoryReport& m = wf.memory();
         INFO(render::format_memory(m));
         CHECK(m.triangles == n);
@@ -184,15 +192,16 @@ TEST_CASE("memory: a render's buffers are the struct sizes times the counts", "[
         CHECK(m.group("scene") >= n * (tri_bytes + 4));
 
         // Pool: per path two rays (2 float4) and two path states (float4 + 4 scalars), a hit
-        // (4 scalars) and the radiance (float4); with NEE a shadow ray, its item and its
-        // contribution: 212 bytes with NEE, 160 without (render/frame_state.h); plus three
-        // 4-byte queue lengths, and without NEE the shadow queue's one-element placeholders.
-        const std::size_t per_path = nee ? 212 : 160;
-        CHECK(render::PathPool::bytes_per_path(nee) == per_path);
+        // (4 scalars) and the radiance (float4); with a shadow queue a shadow ray, its item
+        // and its contribution: 212 bytes with it, 160 without (render/frame_state.h); plus
+        // three 4-byte queue lengths, and without it the shadow queue's one-element
+        // placeholders.
+        const std::size_t per_path = queue ? 212 : 160;
+        CHECK(render::PathPool::bytes_per_path(queue) == per_path);
         CHECK(m.bytes_per_path == per_path);
         const std::size_t paths = wf.pool_capacity();
         CHECK(m.pool_paths == paths);
-        const std::size_t fixed = 3 * 4 + (nee ? 0 : 32 + 4 + 16);
+        const std::size_t fixed = 3 * 4 + (queue ? 0 : 32 + 4 + 16);
         CHECK(m.group("pool") == paths * per_path + fixed);
         CHECK(wf.pool_bytes() == paths * per_path);
 
@@ -273,8 +282,10 @@ TEST_CASE("render CLI: a scene larger than the device's memory fails before rend
         INFO(r.err);
         CHECK(r.status == 0);
         auto j = nlohmann::json::parse(std::ifstream(d.path / "aov.json"));
+        // (The lane kernel traces the shadow rays: no shadow queue.)
+        CHECK(j["settings"]["shadow_rays"] == "shade");
         CHECK(j["memory"]["bytes_per_path"].get<std::size_t>() ==
-              render::PathPool::bytes_per_path(true) + render::AovBuffers::kBytesPerPath);
+              render::PathPool::bytes_per_path(false) + render::AovBuffers::kBytesPerPath);
         CHECK(j["memory"]["total_bytes"].get<std::uint64_t>() <= 80u << 20);
         fs::remove(d.path / "aov.exr");
         fs::remove(d.path / "aov.json");

@@ -1,20 +1,28 @@
 // test_shadow.cpp — the shadow stage and the queue upkeep, each alone on the test device.
 //
 // shadow_trace against a brute-force any-hit oracle over every triangle (support.h), and
-// queue_reset against the counts it is given.
+// queue_reset against the counts it is given; at the CLI, the shadow rays that shade traces
+// itself against the shadow stage's.
 #include <catch2/catch.hpp>
 
 #include <algorithm>
+#include <cstdint>
+#include <fstream>
 #include <numeric>
+#include <string>
 #include <vector>
+
+#include <nlohmann/json.hpp>
 
 #include "bvh/build.h"
 #include "bvh/device_bvh.h"
 #include "bvh/flatten.h"
+#include "image/image.h"
 #include "render/frame_state.h"
 #include "render/stages/shadow.h"
 #include "scene/builtin.h"
 #include "support.h"
+#include "temp_dir.h"
 
 using namespace wp;
 
@@ -50,12 +58,10 @@ TEST_CASE("shadow: unoccluded segments add their contribution to their sample, o
     q.contrib = ocl::Array<float4>::upload(dev, contrib, "shadow contrib");
     q.count = ocl::Array<int>::upload(dev, {n}, "shadow count");
     auto rad = ocl::Array<float4>::upload(dev, radiance, "radiance");
-    auto total = ocl::Array<cl_ulong>::upload(dev, {cl_ulong(1000)}, "ray total");
     render::ShadowStage stage(dev, render::KernelConfig{});  // no alpha cut-outs
     // Launched past the queue length: the stage reads the length on the device.
-    stage.enqueue(n + 100, q, bvh, rad, total);
+    stage.enqueue(n + 100, q, bvh, rad);
     auto out = rad.read(dev);
-    CHECK(total.read(dev)[0] == 1000u + n);
 
     auto oracle = test::brute_force(scene.positions, scene.triangles, rays, /*any_hit=*/true);
     int occluded = 0;
@@ -77,7 +83,7 @@ TEST_CASE("shadow: unoccluded segments add their contribution to their sample, o
     CHECK(wrong == 0);
 }
 
-TEST_CASE("queue upkeep: reset counts the bounce's rays and empties the next queues",
+TEST_CASE("queue upkeep: reset counts the bounce's rays and the last bounce's shadow rays, and empties the queues",
           "[kernel][queue]") {
     auto& dev = test::device();
     render::QueueUpkeep up(dev, nullptr);
@@ -85,11 +91,66 @@ TEST_CASE("queue upkeep: reset counts the bounce's rays and empties the next que
     auto out = ocl::Array<int>::upload(dev, {77}, "count out");
     auto shadow = ocl::Array<int>::upload(dev, {99}, "shadow count");
     auto total = ocl::Array<cl_ulong>::upload(dev, {cl_ulong(1) << 33}, "ray total");
-    up.enqueue_reset(in, out, shadow, total);
-    up.enqueue_reset(in, out, shadow, total);
+    auto shadow_total = ocl::Array<cl_ulong>::upload(dev, {(cl_ulong(1) << 34) + 5}, "shadow ray total");
+    up.enqueue_reset(in, out, shadow, total, shadow_total);
+    CHECK(shadow_total.read(dev)[0] == (cl_ulong(1) << 34) + 5 + 99);  // the previous bounce's 99
+    up.enqueue_reset(in, out, shadow, total, shadow_total);
     CHECK(in.read(dev)[0] == 12345);
     CHECK(out.read(dev)[0] == 0);
     CHECK(shadow.read(dev)[0] == 0);
     // 64-bit: starts above 2^32.
     CHECK(total.read(dev)[0] == (cl_ulong(1) << 33) + 2 * 12345u);
+    CHECK(shadow_total.read(dev)[0] == (cl_ulong(1) << 34) + 5 + 99);  // nothing new
 }
+
+#ifdef WP_CLI_PATH
+TEST_CASE("render CLI: shadow rays traced in shade give the shadow stage's image bit for bit",
+          "[render][cli][shadow]") {
+    // Two implementations of the same light samples: the lane kernel tracing its shadow rays
+    // itself (the default on a CPU) and the queue plus shadow stage. The built-in box (a
+    // quad light, occluders) and a scene with a sphere light (pairs) and glossy plates.
+    test::TempDir d;
+    struct Case {
+        const char* scene;
+        const char* size;
+    };
+    for (const Case& c : {Case{"", "48x36"}, Case{"builtin:veach-plates", "40x30"}}) {
+        std::string args = std::string(c.scene) + " --size " + c.size + " --spp 3 --depth 4";
+        Image img[2];
+        std::uint64_t shadow_rays[2] = {0, 0};
+        const char* modes[2] = {"shade", "stage"};
+        for (int m = 0; m < 2; ++m) {
+            auto r = test::run_render(d.path, args + " --shadow-rays " + modes[m] + " -o " + modes[m] +
+                                                  ".exr --profile " + modes[m] + ".json");
+            INFO(args << " --shadow-rays " << modes[m] << ": " << r.err);
+            REQUIRE(r.status == 0);
+            auto j = nlohmann::json::parse(std::ifstream(d.path / (std::string(modes[m]) + ".json")));
+            // The device is a CPU (PoCL): the lane kernel runs, so "shade" takes effect.
+            CHECK(j["settings"]["shadow_rays"].get<std::string>() == modes[m]);
+            shadow_rays[m] = j["rays_shadow"].get<std::uint64_t>();
+            bool shadow_stage = false;
+            for (auto& st : j["stages"]) shadow_stage |= st["name"] == "shadow";
+            CHECK(shadow_stage == (m == 1));
+            img[m] = read_image(d.path / (std::string(modes[m]) + ".exr"));
+        }
+        INFO(args);
+        CHECK(shadow_rays[0] > 0);
+        CHECK(shadow_rays[0] == shadow_rays[1]);
+        REQUIRE(img[0].rgb.size() == img[1].rgb.size());
+        std::size_t differ = 0;
+        double sum = 0.0;
+        for (std::size_t k = 0; k < img[0].rgb.size(); ++k) {
+            differ += img[0].rgb[k] != img[1].rgb[k];
+            sum += img[0].rgb[k];
+        }
+        CHECK(sum > 0.0);
+        CHECK(differ == 0);
+    }
+    // Without light sampling there are no shadow rays to place.
+    auto r = test::run_render(d.path, "--size 16x12 --spp 1 --sampling cosine -o c.exr --profile c.json");
+    REQUIRE(r.status == 0);
+    auto j = nlohmann::json::parse(std::ifstream(d.path / "c.json"));
+    CHECK(j["settings"]["shadow_rays"].get<std::string>() == "none");
+    CHECK(j["rays_shadow"].get<std::uint64_t>() == 0);
+}
+#endif

@@ -560,6 +560,7 @@ int run_render(RenderArgs a) {
                          {"shade_lanes", s.shade_lanes},
                          {"light_pairs", s.light_pairs},
                          {"light_clearance", s.light_clearance},
+                         {"shadow_rays", wf.shadow_rays()},
                          {"final_rays", wf.final_rays_through_emitters() ? "emitters" : "closest"},
                          {"sampling", render::sampling_name(s.estimator.sampling)},
                          {"glossy", render::glossy_name(s.estimator.glossy)},

@@ -87,6 +87,13 @@ void add_config_options(CLI::App* c, ConfigArgs& a) {
                   "textures, normal maps, anisotropy or environment); the same image bit for "
                   "bit. off: one path per work-item always")
         ->capture_default_str();
+    c->add_option("--shadow-rays", a.shadow_rays,
+                  "shade: where shading runs in vector lanes (--shade-lanes) with light sampling, "
+                  "it traces its shadow rays itself; the same image bit for bit, without the "
+                  "shadow queue (52 bytes a path in flight) or a shadow stage. stage: shadow "
+                  "rays go through a queue to their own stage, which --profile then times apart "
+                  "(\"shadow\"; with shade, its time is part of \"shade\")")
+        ->capture_default_str();
     c->add_option("--light-pairs", a.light_pairs,
                   "on: light sampling draws the half of a closed emitter (a tessellated sphere "
                   "light, an emitting box) that faces the shading point: a sample on a light "
@@ -197,6 +204,9 @@ render::RenderSettings make_settings(const ConfigArgs& a, const Scene& scene) {
     if (a.light_pairs != "on" && a.light_pairs != "off")
         usage_fail("--light-pairs '{}': expected on or off", a.light_pairs);
     s.light_pairs = a.light_pairs == "on";
+    if (a.shadow_rays != "shade" && a.shadow_rays != "stage")
+        usage_fail("--shadow-rays '{}': expected shade or stage", a.shadow_rays);
+    s.shadows_in_shade = a.shadow_rays == "shade";
     if (a.light_clearance != "on" && a.light_clearance != "off")
         usage_fail("--light-clearance '{}': expected on or off", a.light_clearance);
     s.light_clearance = a.light_clearance == "on";

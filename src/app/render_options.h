@@ -33,6 +33,7 @@ struct ConfigArgs {
     std::string shade_lanes = "on";       // on | off (render::RenderSettings::shade_lanes)
     std::string light_pairs = "on";       // on | off (render::RenderSettings::light_pairs)
     std::string light_clearance = "on";   // on | off (render::RenderSettings::light_clearance)
+    std::string shadow_rays = "shade";    // shade | stage (render::RenderSettings::shadows_in_shade)
     std::string final_rays = "emitters";  // emitters | closest (render::RenderSettings::final_rays)
     bool depth_given = false;             // --depth was on the command line (beats the scene's)
     // Adaptive sampling (render/adaptive.h): --adaptive, --adaptive-threshold, --min-spp.

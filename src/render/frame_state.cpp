@@ -112,8 +112,9 @@ QueueUpkeep::QueueUpkeep(const ocl::Device& dev, ocl::Profiler* profiler)
 
 ::cl::Event QueueUpkeep::enqueue_reset(const ocl::Array<int>& count_in, const ocl::Array<int>& count_out,
                                        const ocl::Array<int>& shadow_count,
-                                       const ocl::Array<cl_ulong>& ray_total) {
-    return reset_.launch(target_, 1, count_in, count_out, shadow_count, ray_total);
+                                       const ocl::Array<cl_ulong>& ray_total,
+                                       const ocl::Array<cl_ulong>& shadow_ray_total) {
+    return reset_.launch(target_, 1, count_in, count_out, shadow_count, ray_total, shadow_ray_total);
 }
 
 }  // namespace wp::render

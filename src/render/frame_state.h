@@ -93,7 +93,7 @@ struct FilmBuffers {
     std::vector<FilmSegment> segments;
     ocl::Array<int> counters;        // WP_COUNTER_COUNT
     ocl::Array<cl_ulong> ray_total;         // one element: closest-hit rays (queue_reset)
-    ocl::Array<cl_ulong> shadow_ray_total;  // one element: shadow rays (shadow_trace)
+    ocl::Array<cl_ulong> shadow_ray_total;  // one element: shadow rays (queue_reset)
     bool variance = false;
     int replicates = 1;  // RQMC replicates K (a power of two); > 1: replicate_sum per segment
 
@@ -129,10 +129,11 @@ class QueueUpkeep {
   public:
     QueueUpkeep() = default;
     QueueUpkeep(const ocl::Device& dev, ocl::Profiler* profiler);
-    // queue_reset: ray_total += count_in; count_out = 0; shadow_count = 0 (one work-item).
+    // queue_reset: ray_total += count_in; shadow_ray_total += shadow_count (the previous
+    // bounce's shadow rays); count_out = 0; shadow_count = 0 (one work-item).
     ::cl::Event enqueue_reset(const ocl::Array<int>& count_in, const ocl::Array<int>& count_out,
-                              const ocl::Array<int>& shadow_count,
-                              const ocl::Array<cl_ulong>& ray_total);
+                              const ocl::Array<int>& shadow_count, const ocl::Array<cl_ulong>& ray_total,
+                              const ocl::Array<cl_ulong>& shadow_ray_total);
     const ocl::Program& program() const { return program_; }
 
   private:

@@ -133,6 +133,7 @@ std::string KernelConfig::shade_options() const {
     if (clear_shadow_ends()) o += " -D WP_HAVE_LIGHT_CLEARANCE=1";
     if (stream_stores) o += " -D WP_STREAM_STORES=1";
     if (shade_lanes()) o += " -D WP_SHADE_LANES=1";
+    if (shade_traces_shadows()) o += " -D WP_SHADE_TRACES_SHADOWS=1";
     return o + replicate_options() + inject_options();
 }
 
@@ -141,6 +142,14 @@ bool KernelConfig::shade_lanes() const {
     // kind: the kinds without lane code take their scalar BSDF lane by lane there.
     return lanes && !textures && !normal_maps && !env && !anisotropic && inject_nan == 0;
 }
+
+bool KernelConfig::shade_traces_shadows() const {
+    // The lane kernel models no cut-outs (they need textures), so its any-hit traversal
+    // needs none of the alpha test's arguments.
+    return shadows_in_shade && shade_lanes() && nee();
+}
+
+bool KernelConfig::shadow_queue() const { return nee() && !shade_traces_shadows(); }
 
 std::string KernelConfig::trace_options() const {
     return alpha_mask ? "-D WP_HAVE_ALPHA_MASK=1" : "";

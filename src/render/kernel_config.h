@@ -91,6 +91,9 @@ struct KernelConfig {
     // Generate eight items per work-item, their jitter in vector lanes (a CPU device;
     // kernels/generate.cl WP_GENERATE_LANES): the same rays bit for bit.
     bool generate_lanes = false;
+    // The lane kernel may trace its own shadow rays (RenderSettings::shadows_in_shade): see
+    // shade_traces_shadows().
+    bool shadows_in_shade = false;
     // Some light triangle has a back-to-back partner (scene/light_pairs.h), and the render
     // uses them (RenderSettings::light_pairs): see sample_pairs(). from_scene keeps the
     // partners it found for the light table (DeviceScene), so they are searched once.
@@ -137,6 +140,13 @@ struct KernelConfig {
     // normals, no other appearance feature, no NaN injection. Adds -D WP_SHADE_LANES=1 to
     // shade_options().
     bool shade_lanes() const;
+    // The lane kernel traces its own shadow rays (-D WP_SHADE_TRACES_SHADOWS=1): where it
+    // runs with light sampling and shadows_in_shade allows it. Its light samples then never enter a queue: no shadow queue
+    // in the pool, no shadow stage (kernels/shade.cl says why).
+    bool shade_traces_shadows() const;
+    // The pool holds a shadow queue and the shadow stage runs: light sampling without the
+    // lane kernel.
+    bool shadow_queue() const;
     // Light sampling moves samples from light triangles that face away to their partners
     // (WP_HAVE_LIGHT_PAIRS in shade_options()): light_pairs where light sampling is compiled.
     bool sample_pairs() const { return light_pairs && nee(); }

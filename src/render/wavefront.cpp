@@ -63,6 +63,7 @@ KernelConfig make_config(const ocl::Device& dev, const Scene& scene, const Rende
     // Eight paths per work-item suit a CPU's vector units; a GPU wants one per thread.
     c.lanes = s.shade_lanes && dev.info.type == "CPU";
     c.generate_lanes = dev.info.type == "CPU";
+    c.shadows_in_shade = s.shadows_in_shade;
     c.light_pairs = c.light_pairs && s.light_pairs;
     c.light_clearance = s.light_clearance;
     c.replicates = s.replicates;
@@ -87,8 +88,8 @@ Wavefront::Wavefront(ocl::Device& dev, const Scene& scene, const RenderSettings&
     const std::size_t reserve = film_bytes() + kSmallBuffersBytes;
     // The AOV items (2 float4 a path) are sized by the pool too.
     const std::size_t aov_per_path = settings_.aov ? AovBuffers::kBytesPerPath : 0;
-    pool_ = PathPool(dev, render::pool_capacity(dev, pixels, settings.pool, config_.nee(), reserve, aov_per_path),
-                     config_.nee());
+    pool_ = PathPool(dev, render::pool_capacity(dev, pixels, settings.pool, config_.shadow_queue(), reserve, aov_per_path),
+                     config_.shadow_queue());
     film_ = FilmBuffers(dev, pixels, settings_.variance, settings.film_segment, settings_.replicates);
     if (settings_.aov) aov_ = AovBuffers(dev, pool_.capacity(), film_);
     memory_.capacity = dev.memory ? dev.memory->capacity() : dev.info.global_mem;
@@ -96,7 +97,7 @@ Wavefront::Wavefront(ocl::Device& dev, const Scene& scene, const RenderSettings&
     memory_.triangles = scene_.stats.triangles;
     memory_.pool_paths = pool_.capacity();
     memory_.bytes_per_path =
-        PathPool::bytes_per_path(config_.nee()) + (settings.aov ? AovBuffers::kBytesPerPath : 0);
+        PathPool::bytes_per_path(config_.shadow_queue()) + (settings.aov ? AovBuffers::kBytesPerPath : 0);
     memory_.pixels = pixels;
     memory_.bytes_per_pixel = film_bytes() / pixels;  // film, AOVs, active list and errors
 
@@ -120,7 +121,7 @@ Wavefront::Wavefront(ocl::Device& dev, const Scene& scene, const RenderSettings&
     intersect_ = IntersectStage(dev, settings.traversal, config_, &profiler_);
     shade_ = ShadeStage(dev, config_, &profiler_);
     shade_.prepare(scene_.shading);
-    if (config_.nee()) shadow_ = ShadowStage(dev, config_, &profiler_);
+    if (config_.shadow_queue()) shadow_ = ShadowStage(dev, config_, &profiler_);
     accumulate_ = AccumulateStage(dev, config_, settings_.variance, &profiler_, settings_.replicates);
     // The active list and the per-pixel errors (8 bytes a pixel, 12 with replicates) join
     // the film's group.
@@ -318,7 +319,7 @@ void Wavefront::render_active(int passes, const std::function<void(double)>& on_
 void Wavefront::run_wave(int first_pixel, std::uint32_t first_sample, int count, int active_count) {
     const int n = pixel_count();
     const int depth = settings_.depth;
-    const bool nee = config_.nee();
+    const bool shadow_stage = config_.shadow_queue();
     profiler_.begin_wave(double(count) / double(n));
 
     // Camera rays and fresh paths into queue 0.
@@ -344,14 +345,15 @@ void Wavefront::run_wave(int first_pixel, std::uint32_t first_sample, int count,
         // Feature buffers at the first non-specular hit (render --aov, --denoise).
         if (settings_.aov && aov_stage_.record_at(b))
             aov_stage_.record(live, in, pool_.hits, scene_.shading, b, aov_);
-        // Empty the queues shade fills (and count this bounce's rays).
-        queues_.enqueue_reset(in.count, out.count, pool_.shadow.count, film_.ray_total);
+        // Empty the queues shade fills (and count this bounce's rays and the last bounce's
+        // shadow rays).
+        queues_.enqueue_reset(in.count, out.count, pool_.shadow.count, film_.ray_total, film_.shadow_ray_total);
         // Emission, scattering, light samples, push of the survivors.
         shade_.enqueue(live, in, pool_.hits, scene_.shading, settings_.seed, b, depth, pool_.radiance,
-                       film_.counters, out, pool_.shadow);
-        // Shadow rays of this bounce's light samples (none at the last bounce).
-        if (nee && b < depth) shadow_.enqueue(live, pool_.shadow, scene_.bvh, pool_.radiance,
-                                              film_.shadow_ray_total, &scene_.shading.tex);
+                       film_.counters, out, pool_.shadow, &scene_.bvh);
+        // Shadow rays of this bounce's light samples (none at the last bounce), unless shade
+        // traced them itself.
+        if (shadow_stage && b < depth) shadow_.enqueue(live, pool_.shadow, scene_.bvh, pool_.radiance, &scene_.shading.tex);
         if (b == depth) break;
         // Read this bounce's survivors without waiting; wait for the previous bounce's.
         dev_.queue.enqueueReadBuffer(out.count.buffer, CL_FALSE, 0, sizeof(int), &count_read_[b & 1],

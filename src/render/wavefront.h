@@ -80,6 +80,11 @@ struct RenderSettings {
     // Shade eight paths at a time (kernels/shade.cl shade_surface8) on CPU devices where
     // that kernel models the scene (KernelConfig::shade_lanes); off: shade_surface always.
     bool shade_lanes = true;
+    // Where the lane kernel shades with light sampling, it traces its shadow rays itself
+    // (KernelConfig::shade_traces_shadows): the same image bit for bit, without the shadow
+    // queue (52 bytes a path) or the shadow stage. Off: shadow rays go through the queue to
+    // the shadow stage, which the profile then times on its own.
+    bool shadows_in_shade = true;
     // Light sampling draws the half of a closed emitter that faces the receiver, through
     // back-to-back pairs of light triangles (scene/light_pairs.h): the same image in
     // expectation, less noise from sphere lights. Off: every light sample stays on the
@@ -171,6 +176,11 @@ class Wavefront {
     const SceneStats& stats() const { return scene_.stats; }
     // The last bounce's rays go through the emitters' BVH first (RenderSettings::final_rays).
     bool final_rays_through_emitters() const { return final_emitters_; }
+    // Where the shadow rays are traced: "shade" (KernelConfig::shade_traces_shadows),
+    // "stage" (the shadow stage) or "none" (no light sampling).
+    const char* shadow_rays() const {
+        return config_.shade_traces_shadows() ? "shade" : config_.shadow_queue() ? "stage" : "none";
+    }
     // Warnings of the scene's upload (e.g. an environment map that is not 2:1).
     const std::vector<std::string>& scene_warnings() const { return scene_.warnings; }
     // Each stage's program (build or cache load time), in build order: queue, generate,

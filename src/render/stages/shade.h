@@ -4,6 +4,7 @@
 
 #include <cstdint>
 
+#include "bvh/device_bvh.h"
 #include "render/device_scene.h"
 #include "render/frame_state.h"
 #include "render/kernel_config.h"
@@ -22,17 +23,21 @@ class ShadeStage {
 
     // shade_surface: shades the paths of `in` (hit by `hits`) at bounce `bounce`, adds
     // emission to radiance[item], pushes survivors into `out` and, with NEE, light samples
-    // into `shadow`. `out` and `shadow` must have been emptied (QueueUpkeep::enqueue_reset).
+    // into `shadow` (or, where it traces them itself, KernelConfig::shade_traces_shadows,
+    // adds their unoccluded contributions through `bvh`, the scene's; only their count goes
+    // to shadow.count). `out` and `shadow` must have been emptied (QueueUpkeep::enqueue_reset).
     ::cl::Event enqueue(std::size_t launch, const PathQueue& in, const ocl::Array<Hit>& hits,
                         const ShadingScene& scene, std::uint32_t seed, int bounce, int max_depth,
                         const ocl::Array<float4>& radiance, const ocl::Array<int>& counters,
-                        const PathQueue& out, const ShadowQueue& shadow);
+                        const PathQueue& out, const ShadowQueue& shadow,
+                        const bvh::DeviceBvh* bvh = nullptr);
     const ocl::Program& program() const { return program_; }
 
   private:
     ocl::LaunchTarget target_;
     ocl::Program program_;
     bool lanes_ = false;  // kernel_ is shade_surface8 (KernelConfig::shade_lanes)
+    bool traces_ = false;  // it traces its shadow rays (KernelConfig::shade_traces_shadows)
     ocl::Kernel kernel_;
     ocl::Kernel frames_;
 };

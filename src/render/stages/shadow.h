@@ -15,11 +15,10 @@ class ShadowStage {
     // Built with the config's trace slice (alpha cut-outs, KernelConfig::trace_options()).
     ShadowStage(const ocl::Device& dev, const KernelConfig& config, ocl::Profiler* profiler = nullptr);
 
-    // shadow_trace: for every queued shadow ray without a hit, radiance[item] += contrib;
-    // adds the queue length to ray_total.
+    // shadow_trace: for every queued shadow ray without a hit, radiance[item] += contrib
+    // (the next queue_reset counts the rays).
     ::cl::Event enqueue(std::size_t launch, const ShadowQueue& shadow, const bvh::DeviceBvh& bvh,
-                        const ocl::Array<float4>& radiance, const ocl::Array<cl_ulong>& ray_total,
-                        const TextureArrays* alpha = nullptr);
+                        const ocl::Array<float4>& radiance, const TextureArrays* alpha = nullptr);
     const ocl::Program& program() const { return program_; }
 
   private:
