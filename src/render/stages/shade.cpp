@@ -25,37 +25,26 @@ void ShadeStage::prepare(const ShadingScene& scene) {
                                 const ShadowQueue& shadow, const bvh::DeviceBvh* bvh) {
     // shade_surface8: one work-item per WP_SHADE_LANE_ENTRIES queue entries.
     const std::size_t items = lanes_ ? (launch + WP_SHADE_LANE_ENTRIES - 1) / WP_SHADE_LANE_ENTRIES : launch;
-    if (traces_) {
-        if (!bvh) fail("shade: built to trace its shadow rays but launched without the BVH");
+    // The arguments of WP_SHADE_SURFACE_PARAMS (shade.cl), then the BVH where shade traces
+    // its shadow rays (WP_SHADE_BVH_PARAMS).
+    auto launch_with = [&](const auto&... bvh_args) {
         return kernel_.launch(target_, items, in.rays, in.paths, in.count, hits, scene.tris,
-                          scene.tri_frames, scene.material_ids, scene.materials,
-                          scene.material_tables, scene.background, scene.light_cdf,
-                          scene.light_guide, cl_int(scene.light_guide_size), scene.light_prims,
-                          scene.light_pdf_area, scene.light_pairs, scene.light_clearance,
-                          cl_int(scene.light_count),
-                          scene.tri_normals, scene.tex.tri_uvs, scene.tri_tangents,
-                          scene.tex.material_textures, scene.tex.textures, scene.tex.views,
-                          scene.tex.texels8, scene.tex.texelsf, scene.env, scene.env_texels,
-                          scene.env_marginal, scene.env_conditional, cl_float(scene.env_distance),
-                          cl_float(scene.cone_spread), cl_uint(seed), cl_int(bounce),
-                          cl_int(max_depth), radiance, counters,
-                          out.rays, out.paths, out.count, shadow.rays, shadow.items,
-                          shadow.contrib, shadow.count, bvh->nodes, bvh->links, bvh->triangles, bvh->prim_ids);
-    }
-    return kernel_.launch(target_, items, in.rays, in.paths, in.count, hits, scene.tris,
-                          scene.tri_frames, scene.material_ids, scene.materials,
-                          scene.material_tables, scene.background, scene.light_cdf,
-                          scene.light_guide, cl_int(scene.light_guide_size), scene.light_prims,
-                          scene.light_pdf_area, scene.light_pairs, scene.light_clearance,
-                          cl_int(scene.light_count),
-                          scene.tri_normals, scene.tex.tri_uvs, scene.tri_tangents,
-                          scene.tex.material_textures, scene.tex.textures, scene.tex.views,
-                          scene.tex.texels8, scene.tex.texelsf, scene.env, scene.env_texels,
-                          scene.env_marginal, scene.env_conditional, cl_float(scene.env_distance),
-                          cl_float(scene.cone_spread), cl_uint(seed), cl_int(bounce),
-                          cl_int(max_depth), radiance, counters,
-                          out.rays, out.paths, out.count, shadow.rays, shadow.items,
-                          shadow.contrib, shadow.count);
+                              scene.tri_frames, scene.material_ids, scene.materials,
+                              scene.material_tables, scene.background, scene.light_cdf,
+                              scene.light_guide, cl_int(scene.light_guide_size), scene.light_prims,
+                              scene.light_pdf_area, scene.light_pairs, scene.light_clearance,
+                              cl_int(scene.light_count), scene.tri_normals, scene.tex.tri_uvs,
+                              scene.tri_tangents, scene.tex.material_textures, scene.tex.textures,
+                              scene.tex.views, scene.tex.texels8, scene.tex.texelsf, scene.env,
+                              scene.env_texels, scene.env_marginal, scene.env_conditional,
+                              cl_float(scene.env_distance), cl_float(scene.cone_spread), cl_uint(seed),
+                              cl_int(bounce), cl_int(max_depth), radiance, counters, out.rays, out.paths,
+                              out.count, shadow.rays, shadow.items, shadow.contrib, shadow.count,
+                              bvh_args...);
+    };
+    if (!traces_) return launch_with();
+    if (!bvh) fail("shade: built to trace its shadow rays but launched without the BVH");
+    return launch_with(bvh->nodes, bvh->links, bvh->triangles, bvh->prim_ids);
 }
 
 }  // namespace wp::render
