@@ -36,11 +36,11 @@
 // or MIS) the light sampling; WP_RR_DEPTH the first bounce at which Russian roulette may
 // end a path (< 0: off); WP_HAVE_NORMALS, WP_HAVE_TEXTURES, WP_HAVE_NORMAL_MAPS and
 // WP_HAVE_ENV the appearance features (all 0 without options: a scene without them
-// compiles none of their code). WP_SHADE_TRACES_SHADOWS (shade_surface8 only; KernelConfig::
-// shade_traces_shadows: the lane kernel with light sampling) makes the kernel trace its own
-// shadow rays (below, at shade_surface8) through the BVH passed after its other arguments
-// (bvh_nodes, bvh_links, bvh_tris, bvh_prim_ids: the intersect stage's), so nothing goes
-// into the shadow queue but the count in shadow_count.
+// compiles none of their code). WP_SHADE_TRACES_SHADOWS (shade_surface8 only;
+// KernelConfig::shade_traces_shadows: the lane kernel with light sampling and no cut-outs)
+// makes the kernel trace its own shadow rays (below, at shade_surface8) through the BVH
+// passed after its other arguments (bvh_nodes, bvh_links, bvh_tris, bvh_prim_ids: the
+// intersect stage's), so nothing goes into the shadow queue but the count in shadow_count.
 // Emission is one-sided: only the front face (counter-clockwise winding normal) emits.
 // Shading normals shape the BSDF only; geometric normals decide sides, ray offsets and
 // which directions are reflections (shading.h lists the failure modes and their guards).

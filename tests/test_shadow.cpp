@@ -19,6 +19,8 @@
 #include "bvh/flatten.h"
 #include "image/image.h"
 #include "render/frame_state.h"
+#include "render/loop.h"
+#include "render/wavefront.h"
 #include "render/stages/shadow.h"
 #include "scene/builtin.h"
 #include "support.h"
@@ -154,3 +156,49 @@ TEST_CASE("render CLI: shadow rays traced in shade give the shadow stage's image
     CHECK(j["rays_shadow"].get<std::uint64_t>() == 0);
 }
 #endif
+
+TEST_CASE("render: shadow rays of a scene with cut-outs go through the shadow stage's alpha test",
+          "[render][shadow]") {
+    // A constant alpha below its cutoff cuts a material out without any texture, so the lane
+    // kernel (no textures) shades the scene; its own traversal has no alpha test, so it must
+    // not trace the shadow rays. The built-in box with its tall glossy box cut out: the
+    // light that box would block reaches the floor. Independent answer: the same render
+    // without cut-outs differs (the box casts its shadow), and the render asking for shadows
+    // in shade equals the one asking for the stage, bit for bit.
+    Scene box = make_cornell_box(2000);
+    Scene cut = box;
+    int cut_materials = 0;
+    for (Material& m : cut.materials)
+        if (m.kind == MaterialKind::Glossy) {
+            m.alpha_factor = 0.0f;
+            ++cut_materials;
+        }
+    REQUIRE(cut_materials == 1);
+    auto render = [](const Scene& scene, bool in_shade, std::string* mode) {
+        render::RenderSettings s;
+        s.width = 40;
+        s.height = 30;
+        s.depth = 3;
+        s.shadows_in_shade = in_shade;
+        render::Wavefront wf(test::device(), scene, s);
+        *mode = wf.shadow_rays();
+        render::LoopOptions lo;
+        lo.spp = 4;
+        render::render_frames(wf, lo, nullptr);
+        return wf.resolve();
+    };
+    std::string mode_shade, mode_stage, mode_plain;
+    const Image a = render(cut, true, &mode_shade), b = render(cut, false, &mode_stage);
+    const Image plain = render(box, true, &mode_plain);
+    CHECK(mode_shade == "stage");  // cut-outs keep the stage even when shade could trace
+    CHECK(mode_stage == "stage");
+    CHECK(mode_plain == "shade");
+    REQUIRE(a.rgb.size() == b.rgb.size());
+    std::size_t differ = 0, differ_plain = 0;
+    for (std::size_t k = 0; k < a.rgb.size(); ++k) {
+        differ += a.rgb[k] != b.rgb[k];
+        differ_plain += a.rgb[k] != plain.rgb[k];
+    }
+    CHECK(differ == 0);
+    CHECK(differ_plain > a.rgb.size() / 10);
+}

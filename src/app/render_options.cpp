@@ -88,8 +88,8 @@ void add_config_options(CLI::App* c, ConfigArgs& a) {
                   "bit. off: one path per work-item always")
         ->capture_default_str();
     c->add_option("--shadow-rays", a.shadow_rays,
-                  "shade: where shading runs in vector lanes (--shade-lanes) with light sampling, "
-                  "it traces its shadow rays itself; the same image bit for bit, without the "
+                  "shade: where shading runs in vector lanes (--shade-lanes) with light sampling "
+                  "and no material is cut out, it traces its shadow rays itself; the same image bit for bit, without the "
                   "shadow queue (52 bytes a path in flight) or a shadow stage. stage: shadow "
                   "rays go through a queue to their own stage, which --profile then times apart "
                   "(\"shadow\"; with shade, its time is part of \"shade\")")

@@ -144,9 +144,10 @@ bool KernelConfig::shade_lanes() const {
 }
 
 bool KernelConfig::shade_traces_shadows() const {
-    // The lane kernel models no cut-outs (they need textures), so its any-hit traversal
-    // needs none of the alpha test's arguments.
-    return shadows_in_shade && shade_lanes() && nee();
+    // The lane kernel's any hit takes none of the alpha test's arguments, so a scene with
+    // cut-outs (textured, or a constant alpha below its cutoff, which needs no texture)
+    // keeps the shadow stage, whose traversal skips them.
+    return shadows_in_shade && shade_lanes() && nee() && !alpha_mask;
 }
 
 bool KernelConfig::shadow_queue() const { return nee() && !shade_traces_shadows(); }

@@ -141,8 +141,9 @@ struct KernelConfig {
     // shade_options().
     bool shade_lanes() const;
     // The lane kernel traces its own shadow rays (-D WP_SHADE_TRACES_SHADOWS=1): where it
-    // runs with light sampling and shadows_in_shade allows it. Its light samples then never enter a queue: no shadow queue
-    // in the pool, no shadow stage (kernels/shade.cl says why).
+    // runs with light sampling, no material is cut out (its traversal has no alpha test)
+    // and shadows_in_shade allows it. Its light samples then never enter a queue: no
+    // shadow queue in the pool, no shadow stage (kernels/shade.cl says why).
     bool shade_traces_shadows() const;
     // The pool holds a shadow queue and the shadow stage runs: light sampling without the
     // lane kernel.
