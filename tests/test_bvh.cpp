@@ -228,22 +228,24 @@ TEST_CASE("the SAH tree is much cheaper than a median tree", "[unit][bvh]") {
 
 namespace {
 
+// Half the surface area of a box, in double.
+double area_d(const Aabb& b) {
+    double ex = double(b.hi.x) - b.lo.x, ey = double(b.hi.y) - b.lo.y, ez = double(b.hi.z) - b.lo.z;
+    return ex * ey + ey * ez + ez * ex;
+}
+
 // The SAH cost of a flattened tree, read off the device layout (child boxes as stored):
 // every interior node reached through a box costs node_cost times that box's area, every
 // leaf tri_cost times its triangle count times its box's area; the root is entered always
 // (its own area: the union of its children). Relative to nothing: the same scale as the
 // collapse's own costs.
 double wide_sah(const bvh::FlatBvh& f, const bvh::FlattenOptions& o) {
-    auto area = [](const Aabb& b) {
-        double ex = double(b.hi.x) - b.lo.x, ey = double(b.hi.y) - b.lo.y, ez = double(b.hi.z) - b.lo.z;
-        return ex * ey + ey * ez + ez * ex;
-    };
     std::function<double(int)> node = [&](int i) {
         double c = 0.0;
         for (int s = 0; s < WP_BVH_WIDTH; ++s) {
             int ref = (&f.nodes[i].child0)[s];
             if (ref == -1) continue;
-            double a = area(child_box(f.nodes[i], s));
+            double a = area_d(child_box(f.nodes[i], s));
             c += ref >= 0 ? a * o.node_cost + node(ref) : a * o.tri_cost * ((~ref) & WP_LEAF_MAX_COUNT);
         }
         return c;
@@ -251,7 +253,7 @@ double wide_sah(const bvh::FlatBvh& f, const bvh::FlattenOptions& o) {
     Aabb root;
     for (int s = 0; s < WP_BVH_WIDTH; ++s)
         if ((&f.nodes[0].child0)[s] != -1) root.grow(child_box(f.nodes[0], s));
-    return area(root) * o.node_cost + node(0);
+    return area_d(root) * o.node_cost + node(0);
 }
 
 // The cheapest collapse by brute force, a second algorithm: a wide node at binary node n
@@ -265,11 +267,7 @@ struct BruteCollapse {
     std::vector<double> best_memo;
     std::vector<int> count;
 
-    double area(int n) const {
-        const Aabb& x = b.nodes[n].box;
-        double ex = double(x.hi.x) - x.lo.x, ey = double(x.hi.y) - x.lo.y, ez = double(x.hi.z) - x.lo.z;
-        return ex * ey + ey * ez + ez * ex;
-    }
+    double area(int n) const { return area_d(b.nodes[n].box); }
     int tris(int n) {
         if (count[n] >= 0) return count[n];
         const bvh::Node& nd = b.nodes[n];

@@ -69,7 +69,7 @@ TEST_CASE("render CLI: invalid options are rejected with a message", "[render][c
     // Beyond util/limits.h: spp 2^24 + 1, depth 2^20 + 1, a side of 16385.
     for (const char* args : {"--spp 0", "--depth -1", "--size 0x10", "--size 64by48", "--time -2",
                              "--debug-nan shader", "--debug-nan-period 0", "--spp 16777217",
-                             "--depth 1048577", "--size 16385x1"}) {
+                             "--depth 1048577", "--size 16385x1", "--shadow-rays queue"}) {
         Run r = run_cli(d, args);
         INFO(args << ": " << r.err);
         CHECK(r.status != 0);

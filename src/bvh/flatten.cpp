@@ -2,10 +2,10 @@
 
 #include <algorithm>
 #include <array>
-#include <cstdint>
-#include <limits>
 #include <cfloat>
 #include <cmath>
+#include <cstdint>
+#include <limits>
 
 #include "util/error.h"
 

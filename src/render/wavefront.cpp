@@ -88,8 +88,9 @@ Wavefront::Wavefront(ocl::Device& dev, const Scene& scene, const RenderSettings&
     const std::size_t reserve = film_bytes() + kSmallBuffersBytes;
     // The AOV items (2 float4 a path) are sized by the pool too.
     const std::size_t aov_per_path = settings_.aov ? AovBuffers::kBytesPerPath : 0;
-    pool_ = PathPool(dev, render::pool_capacity(dev, pixels, settings.pool, config_.shadow_queue(), reserve, aov_per_path),
-                     config_.shadow_queue());
+    const bool shadow_queue = config_.shadow_queue();
+    pool_ = PathPool(dev, render::pool_capacity(dev, pixels, settings.pool, shadow_queue, reserve, aov_per_path),
+                     shadow_queue);
     film_ = FilmBuffers(dev, pixels, settings_.variance, settings.film_segment, settings_.replicates);
     if (settings_.aov) aov_ = AovBuffers(dev, pool_.capacity(), film_);
     memory_.capacity = dev.memory ? dev.memory->capacity() : dev.info.global_mem;
@@ -97,7 +98,7 @@ Wavefront::Wavefront(ocl::Device& dev, const Scene& scene, const RenderSettings&
     memory_.triangles = scene_.stats.triangles;
     memory_.pool_paths = pool_.capacity();
     memory_.bytes_per_path =
-        PathPool::bytes_per_path(config_.shadow_queue()) + (settings.aov ? AovBuffers::kBytesPerPath : 0);
+        PathPool::bytes_per_path(shadow_queue) + (settings.aov ? AovBuffers::kBytesPerPath : 0);
     memory_.pixels = pixels;
     memory_.bytes_per_pixel = film_bytes() / pixels;  // film, AOVs, active list and errors
 
@@ -347,13 +348,15 @@ void Wavefront::run_wave(int first_pixel, std::uint32_t first_sample, int count,
             aov_stage_.record(live, in, pool_.hits, scene_.shading, b, aov_);
         // Empty the queues shade fills (and count this bounce's rays and the last bounce's
         // shadow rays).
-        queues_.enqueue_reset(in.count, out.count, pool_.shadow.count, film_.ray_total, film_.shadow_ray_total);
+        queues_.enqueue_reset(in.count, out.count, pool_.shadow.count, film_.ray_total,
+                              film_.shadow_ray_total);
         // Emission, scattering, light samples, push of the survivors.
         shade_.enqueue(live, in, pool_.hits, scene_.shading, settings_.seed, b, depth, pool_.radiance,
                        film_.counters, out, pool_.shadow, &scene_.bvh);
         // Shadow rays of this bounce's light samples (none at the last bounce), unless shade
         // traced them itself.
-        if (shadow_stage && b < depth) shadow_.enqueue(live, pool_.shadow, scene_.bvh, pool_.radiance, &scene_.shading.tex);
+        if (shadow_stage && b < depth)
+            shadow_.enqueue(live, pool_.shadow, scene_.bvh, pool_.radiance, &scene_.shading.tex);
         if (b == depth) break;
         // Read this bounce's survivors without waiting; wait for the previous bounce's.
         dev_.queue.enqueueReadBuffer(out.count.buffer, CL_FALSE, 0, sizeof(int), &count_read_[b & 1],
