@@ -3,6 +3,9 @@
 // WP_DEVICE_MAX_ALLOC make the device look smaller).
 #include <catch2/catch.hpp>
 
+#include <algorithm>
+#include <cstdint>
+#include <cstdio>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
@@ -341,3 +344,75 @@ TEST_CASE("render CLI: a smaller largest allocation splits the film and shrinks 
 }
 
 #endif
+
+namespace {
+
+// The kernel's THP mode ("always", "madvise" or "never"; "" when the file is absent).
+std::string thp_mode() {
+    std::ifstream f("/sys/kernel/mm/transparent_hugepage/enabled");
+    std::string line;
+    std::getline(f, line);
+    const auto a = line.find('['), b = line.find(']');
+    return a == std::string::npos || b == std::string::npos ? "" : line.substr(a + 1, b - a - 1);
+}
+
+// The kB of AnonHugePages that /proc/self/smaps gives the mapping holding `addr`, or -1
+// when no mapping holds it.
+long anon_huge_kb(const void* addr) {
+    const auto a = reinterpret_cast<std::uintptr_t>(addr);
+    std::ifstream f("/proc/self/smaps");
+    std::string line;
+    bool inside = false;
+    while (std::getline(f, line)) {
+        unsigned long lo = 0, hi = 0;  // a mapping's first line: "lo-hi perms offset ..."
+        if (std::sscanf(line.c_str(), "%lx-%lx", &lo, &hi) == 2) {
+            inside = lo <= a && a < hi;
+            continue;
+        }
+        if (inside && line.rfind("AnonHugePages:", 0) == 0) return std::atol(line.c_str() + 14);
+    }
+    return -1;
+}
+
+}  // namespace
+
+TEST_CASE("memory: a CPU device's large buffers live in the process's own huge pages", "[kernel]") {
+    ocl::Device& dev = test::device();
+    if (!dev.huge_pages) {
+        WARN("skipped: the test device is not a CPU device sharing the host's memory");
+        return;
+    }
+    const std::size_t n = (8u << 20) / sizeof(int);  // 8 MiB: four huge pages
+    ::cl::Buffer big = dev.create_buffer(CL_MEM_READ_WRITE, n * sizeof(int), "the test huge buffer");
+    ::cl::Buffer small = dev.create_buffer(CL_MEM_READ_WRITE, ocl::kHugePageBufferMin - 4, "the test small buffer");
+    CHECK((big.getInfo<CL_MEM_FLAGS>() & CL_MEM_USE_HOST_PTR) != 0);
+    CHECK((small.getInfo<CL_MEM_FLAGS>() & CL_MEM_USE_HOST_PTR) == 0);
+    void* host = big.getInfo<CL_MEM_HOST_PTR>();
+    REQUIRE(host != nullptr);
+    CHECK(reinterpret_cast<std::uintptr_t>(host) % (2u << 20) == 0);
+
+    // The device writes every element; reading back through OpenCL gives them all.
+    dev.queue.enqueueFillBuffer(big, int(0x5a5a1234), 0, n * sizeof(int));
+    std::vector<int> back(n);
+    dev.queue.enqueueReadBuffer(big, CL_TRUE, 0, n * sizeof(int), back.data());
+    CHECK(std::count(back.begin(), back.end(), int(0x5a5a1234)) == static_cast<long>(n));
+    // The driver wrote in place (no copy of its own): the kernel counts huge pages on the
+    // mapping wherever THP is not off.
+    const long kb = anon_huge_kb(host);
+    CHECK(kb >= 0);
+    if (thp_mode() == "never" || thp_mode().empty())
+        WARN("transparent huge pages are off on this machine: the advice is a no-op");
+    else
+        CHECK(kb >= 2048);
+
+    // Released, the mapping goes (the destructor callback unmaps it).
+    big = ::cl::Buffer();
+    dev.queue.finish();
+    CHECK(anon_huge_kb(host) == -1);
+
+    // WP_HUGE_PAGES=0 keeps the driver's allocation for every buffer.
+    ocl::Device plain = dev;
+    plain.huge_pages = false;
+    ::cl::Buffer b = plain.create_buffer(CL_MEM_READ_WRITE, n * sizeof(int), "the test plain buffer");
+    CHECK((b.getInfo<CL_MEM_FLAGS>() & CL_MEM_USE_HOST_PTR) == 0);
+}

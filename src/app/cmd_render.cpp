@@ -570,6 +570,7 @@ int run_render(RenderArgs a) {
                          {"pool_paths", wf.pool_capacity()},
                          {"pool_bytes", wf.pool_bytes()},
                          {"film_bytes", wf.film_bytes()},
+                         {"huge_pages", dev.huge_pages},
                          {"time_limit_s", a.time_s}, {"wall_s", res.wall_s},
                          {"render_s", res.render_s},
                          {"adaptive", s.adaptive.enabled},

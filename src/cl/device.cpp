@@ -1,5 +1,6 @@
 #include "cl/device.h"
 
+#include <sys/mman.h>
 #include <unistd.h>
 
 #include <algorithm>
@@ -120,6 +121,46 @@ void CL_CALLBACK on_release(cl_mem, void* user) {
     delete t;
 }
 
+// Host memory for a buffer of `bytes` in transparent huge pages: an anonymous mapping
+// rounded up to whole 2 MiB pages and aligned to one, advised MADV_HUGEPAGE before anything
+// touches it, so the first touch of each 2 MiB faults in one huge page (when the kernel's
+// THP setting is "madvise" or "always"; with "never" the advice is a no-op and the pages
+// stay small). Null when the mapping fails (the caller falls back to the driver's memory).
+constexpr std::size_t kHugePage = std::size_t(2) << 20;
+
+struct HugeMapping {
+    void* base = nullptr;  // what munmap takes
+    std::size_t length = 0;
+    void* data = nullptr;  // the 2 MiB-aligned start handed to the driver
+};
+
+HugeMapping map_huge(std::uint64_t bytes) {
+    HugeMapping m;
+    const std::size_t rounded = (static_cast<std::size_t>(bytes) + kHugePage - 1) & ~(kHugePage - 1);
+    m.length = rounded + kHugePage;  // room to align the start
+    void* p = ::mmap(nullptr, m.length, PROT_READ | PROT_WRITE, MAP_PRIVATE | MAP_ANONYMOUS, -1, 0);
+    if (p == MAP_FAILED) return {};
+    m.base = p;
+    const auto addr = reinterpret_cast<std::uintptr_t>(p);
+    m.data = reinterpret_cast<void*>((addr + kHugePage - 1) & ~std::uintptr_t(kHugePage - 1));
+#ifdef MADV_HUGEPAGE
+    ::madvise(m.data, rounded, MADV_HUGEPAGE);  // advice only: its failure changes nothing
+#endif
+    return m;
+}
+
+// Unmaps a HugeMapping once OpenCL has released the buffer that used it.
+void CL_CALLBACK on_release_mapping(cl_mem, void* user) {
+    auto* m = static_cast<HugeMapping*>(user);
+    ::munmap(m->base, m->length);
+    delete m;
+}
+
+bool env_off(const char* name) {
+    const char* v = std::getenv(name);
+    return v && (std::string(v) == "0" || lower(v) == "off");
+}
+
 }  // namespace
 
 Device Device::open(const std::string& selector) {
@@ -142,6 +183,7 @@ Device Device::open(const std::string& selector) {
     d.memory = std::make_shared<MemoryLedger>(d.info.name, capacity, d.info.max_alloc, note);
     d.context = ::cl::Context(d.info.device);
     d.queue = ::cl::CommandQueue(d.context, d.info.device, CL_QUEUE_PROFILING_ENABLE);
+    d.huge_pages = !d.info.is_gpu && d.info.host_unified && !env_off(kHugePagesEnv);
     return d;
 }
 
@@ -154,11 +196,28 @@ void Device::check_alloc(std::uint64_t bytes, const std::string& what) const {
 ::cl::Buffer Device::create_buffer(cl_mem_flags flags, std::uint64_t bytes, const std::string& what) const {
     check_alloc(bytes, what);
     ::cl::Buffer b;
+    HugeMapping* mapping = nullptr;
+    if (huge_pages && bytes >= kHugePageBufferMin &&
+        !(flags & (CL_MEM_USE_HOST_PTR | CL_MEM_ALLOC_HOST_PTR | CL_MEM_COPY_HOST_PTR))) {
+        if (HugeMapping m = map_huge(bytes); m.base) mapping = new HugeMapping(m);
+    }
     try {
-        b = ::cl::Buffer(context, flags, bytes);
+        b = mapping ? ::cl::Buffer(context, flags | CL_MEM_USE_HOST_PTR, bytes, mapping->data)
+                    : ::cl::Buffer(context, flags, bytes);
     } catch (const ::cl::Error& e) {
+        if (mapping) {
+            ::munmap(mapping->base, mapping->length);
+            delete mapping;
+        }
         fail("device '{}' refused a buffer of {} for {} (OpenCL error {} in {})", info.name,
              format_bytes(bytes), what, e.err(), e.what());
+    }
+    if (mapping) {
+        try {
+            b.setDestructorCallback(&on_release_mapping, mapping);  // called after the ledger's
+        } catch (const ::cl::Error&) {
+            // A driver that cannot say when it lets go of the memory: keep it mapped.
+        }
     }
     if (memory) {
         auto* token = new ReleaseToken{memory, memory->add(what, bytes)};

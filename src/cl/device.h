@@ -43,6 +43,17 @@ DeviceInfo select_device(const std::string& selector);
 // The testing aid of cl/memory.h: these make a device look smaller (bytes; K, M, G suffixes).
 inline constexpr const char* kMemoryLimitEnv = "WP_DEVICE_MEMORY_LIMIT";
 inline constexpr const char* kMaxAllocEnv = "WP_DEVICE_MAX_ALLOC";
+// Set to 0 or "off", makes a CPU device's large buffers come from the driver like the rest
+// (Device::huge_pages: for measuring what the huge pages give).
+inline constexpr const char* kHugePagesEnv = "WP_HUGE_PAGES";
+
+// Buffers of at least this many bytes on a huge-page device are host memory of the
+// process's own, in transparent huge pages (Device::create_buffer). Each such buffer takes
+// whole 2 MiB pages, so one of 256 KiB wastes up to 1.75 MiB; below it the driver's
+// allocation is kept. The BVH's nodes and triangles and the shading data of the built-in box
+// (256-769 KiB each) are above it: measured, they gain as much again as the pool
+// (docs/performance.md, "Seventeenth round").
+inline constexpr std::uint64_t kHugePageBufferMin = std::uint64_t(256) << 10;
 
 // A context and an in-order, profiling-enabled queue on one device, and the ledger of its
 // buffers (cl/memory.h).
@@ -51,6 +62,14 @@ struct Device {
     ::cl::Context context;
     ::cl::CommandQueue queue;
     std::shared_ptr<MemoryLedger> memory;
+    // A CPU device that shares the host's memory (PoCL): its buffers of at least
+    // kHugePageBufferMin bytes are mapped by the process, 2 MiB-aligned, advised into
+    // transparent huge pages (madvise MADV_HUGEPAGE) and handed to the driver with
+    // CL_MEM_USE_HOST_PTR, which a CPU driver uses in place. The path pool, the film and
+    // the BVH are read at random: in 4 KiB pages nearly every such read also misses the
+    // TLB (measured: docs/performance.md, "Seventeenth round"). Off on GPUs and with
+    // WP_HUGE_PAGES=0.
+    bool huge_pages = false;
 
     // Opens the device; WP_DEVICE_MEMORY_LIMIT / WP_DEVICE_MAX_ALLOC, when set, lower
     // info.global_mem / info.max_alloc and the ledger's limits (a testing aid).
