@@ -26,7 +26,7 @@
 #define WP_INTERSECT_ENTRIES(name, trace)                                                   \
     WP_KERNEL void name##_batch(WP_GLOBAL const Ray* rays, int count,                         \
                                WP_GLOBAL const BvhNode* nodes, WP_GLOBAL const BvhLinks* links, \
-                               WP_GLOBAL const Triangle* tris, WP_GLOBAL const int* prim_ids,   \
+                               WP_GLOBAL const TriBlock* tris, WP_GLOBAL const int* prim_ids,   \
                                WP_GLOBAL Hit* hits, WP_GLOBAL TraceStats* stats WP_ALPHA_KERNEL_PARAMS) { \
         int i = wp_global_id();                                                             \
         if (i >= count) return;                                                             \
@@ -37,7 +37,7 @@
     }                                                                                       \
     WP_KERNEL void name(WP_GLOBAL const Ray* rays, WP_GLOBAL const int* queue_count,           \
                        WP_GLOBAL const BvhNode* nodes, WP_GLOBAL const BvhLinks* links,       \
-                       WP_GLOBAL const Triangle* tris, WP_GLOBAL const int* prim_ids,         \
+                       WP_GLOBAL const TriBlock* tris, WP_GLOBAL const int* prim_ids,         \
                        WP_GLOBAL Hit* hits WP_ALPHA_KERNEL_PARAMS) {                         \
         int i = wp_global_id();                                                             \
         if (i >= queue_count[0]) return;                                                    \
@@ -64,9 +64,9 @@ WP_INTERSECT_ENTRIES(intersect_any, wp_trace_any)
 // inlined traversal costs a cold start PoCL's compile time.
 WP_KERNEL void intersect_final(WP_GLOBAL const Ray* rays, WP_GLOBAL const int* queue_count,
                                WP_GLOBAL const BvhNode* nodes, WP_GLOBAL const BvhLinks* links,
-                               WP_GLOBAL const Triangle* tris, WP_GLOBAL const int* prim_ids,
+                               WP_GLOBAL const TriBlock* tris, WP_GLOBAL const int* prim_ids,
                                WP_GLOBAL const BvhNode* e_nodes, WP_GLOBAL const BvhLinks* e_links,
-                               WP_GLOBAL const Triangle* e_tris, WP_GLOBAL const int* e_prim_ids,
+                               WP_GLOBAL const TriBlock* e_tris, WP_GLOBAL const int* e_prim_ids,
                                WP_GLOBAL Hit* hits WP_ALPHA_KERNEL_PARAMS) {
     int i = wp_global_id();
     if (i >= queue_count[0]) return;

@@ -521,7 +521,7 @@ WP_FN void wp_push_shadow(WP_GLOBAL Ray* ray_q, WP_GLOBAL int* item_q, WP_GLOBAL
 #include "shared/bvh_traverse.h"
 #define WP_SHADE_BVH_PARAMS \
     , WP_GLOBAL const BvhNode *bvh_nodes, WP_GLOBAL const BvhLinks *bvh_links, \
-        WP_GLOBAL const Triangle *bvh_tris, WP_GLOBAL const int *bvh_prim_ids
+        WP_GLOBAL const TriBlock *bvh_tris, WP_GLOBAL const int *bvh_prim_ids
 #else
 #define WP_SHADE_BVH_PARAMS
 #endif

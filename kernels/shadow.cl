@@ -17,7 +17,7 @@
 WP_KERNEL void shadow_trace(WP_GLOBAL const Ray* shadow_rays, WP_GLOBAL const int* shadow_items,
                             WP_GLOBAL const float4* shadow_contrib,
                             WP_GLOBAL const int* shadow_count, WP_GLOBAL const BvhNode* nodes,
-                            WP_GLOBAL const BvhLinks* links, WP_GLOBAL const Triangle* tris,
+                            WP_GLOBAL const BvhLinks* links, WP_GLOBAL const TriBlock* tris,
                             WP_GLOBAL const int* prim_ids,
                             WP_GLOBAL float4* radiance WP_ALPHA_KERNEL_PARAMS) {
     int i = wp_global_id();

@@ -116,9 +116,16 @@ void check_flat(const Mesh& m, const bvh::FlatBvh& f) {
     std::size_t n = m.triangles.size();
     REQUIRE(f.nodes.size() == f.links.size());
     REQUIRE(!f.nodes.empty());
-    REQUIRE(f.triangles.size() == n);
+    REQUIRE(f.triangle_count == n);
+    REQUIRE(f.prim_ids.size() == f.triangles.size() * WP_TRI_BLOCK);
     CHECK(f.links[0].parent == -1);
-    std::vector<int> covered(n, 0), visited(f.nodes.size(), 0);
+    std::vector<int> covered(n, 0), visited(f.nodes.size(), 0), block_used(f.triangles.size(), 0);
+    // Lane l of block b as a triangle's three vertices.
+    auto lane = [&](std::size_t b, int l, int vertex) {
+        const float4* r = &f.triangles[b].row[3 * vertex];
+        return glm::vec3(reinterpret_cast<const float*>(&r[0])[l], reinterpret_cast<const float*>(&r[1])[l],
+                         reinterpret_cast<const float*>(&r[2])[l]);
+    };
     std::function<void(int, int)> walk = [&](int i, int depth) {
         visited[i] += 1;
         CHECK(depth <= WP_BVH_MAX_DEPTH);
@@ -150,17 +157,27 @@ void check_flat(const Mesh& m, const bvh::FlatBvh& f) {
                 CHECK(box.contains(inner));
                 walk(c, depth + 1);
             } else {
+                // The leaf's blocks: its triangles in lanes 0..count-1, then padding.
                 int first = (~c) >> WP_LEAF_COUNT_BITS, count = (~c) & WP_LEAF_MAX_COUNT;
-                for (int k = first; k < first + count; ++k) {
-                    REQUIRE(k < static_cast<int>(n));
-                    covered[k] += 1;
-                    const Triangle& t = f.triangles[k];
-                    CHECK((t.v0.w == 0.0f && t.v1.w == 0.0f && t.v2.w == 0.0f));
-                    // The leaf-ordered copy is the original triangle.
-                    const glm::uvec3& o = m.triangles[f.prim_ids[k]];
-                    CHECK(t.v0.x == m.positions[o.x].x);
-                    CHECK(t.v2.z == m.positions[o.z].z);
-                    Aabb tb = triangle_box(m, f.prim_ids[k]);
+                const int blocks = (count + WP_TRI_BLOCK - 1) / WP_TRI_BLOCK;
+                REQUIRE(first + blocks <= static_cast<int>(f.triangles.size()));
+                for (int j = 0; j < blocks * WP_TRI_BLOCK; ++j) {
+                    const std::size_t b = static_cast<std::size_t>(first + j / WP_TRI_BLOCK);
+                    const int l = j % WP_TRI_BLOCK;
+                    if (l == 0) block_used[b] += 1;
+                    const int id = f.prim_ids[b * WP_TRI_BLOCK + l];
+                    if (j >= count) {  // a padding lane: no triangle, zero vertices
+                        CHECK(id == -1);
+                        for (int v = 0; v < 3; ++v) CHECK(lane(b, l, v) == glm::vec3(0.0f));
+                        continue;
+                    }
+                    REQUIRE(id >= 0);
+                    REQUIRE(id < static_cast<int>(n));
+                    covered[static_cast<std::size_t>(id)] += 1;
+                    // The lane is the original triangle.
+                    const glm::uvec3& o = m.triangles[static_cast<std::size_t>(id)];
+                    for (int v = 0; v < 3; ++v) CHECK(lane(b, l, v) == m.positions[o[v]]);
+                    Aabb tb = triangle_box(m, id);
                     CHECK(box.contains(tb));
                 }
             }
@@ -171,8 +188,12 @@ void check_flat(const Mesh& m, const bvh::FlatBvh& f) {
     walk(0, 1);
     for (std::size_t k = 0; k < n; ++k) REQUIRE(covered[k] == 1);
     for (std::size_t i = 0; i < visited.size(); ++i) REQUIRE(visited[i] == 1);
-    std::vector<int> ids(f.prim_ids.begin(), f.prim_ids.end());
+    for (std::size_t b = 0; b < block_used.size(); ++b) REQUIRE(block_used[b] == 1);  // no block shared or lost
+    std::vector<int> ids;
+    for (int id : f.prim_ids)
+        if (id >= 0) ids.push_back(id);
     std::sort(ids.begin(), ids.end());
+    REQUIRE(ids.size() == n);
     for (std::size_t k = 0; k < n; ++k) REQUIRE(ids[k] == static_cast<int>(k));
 }
 
@@ -236,9 +257,13 @@ double area_d(const Aabb& b) {
 
 // The SAH cost of a flattened tree, read off the device layout (child boxes as stored):
 // every interior node reached through a box costs node_cost times that box's area, every
-// leaf tri_cost times its triangle count times its box's area; the root is entered always
+// leaf tri_cost times its lanes (its triangle count rounded up to whole blocks of
+// WP_TRI_BLOCK) times its box's area; the root is entered always
 // (its own area: the union of its children). Relative to nothing: the same scale as the
 // collapse's own costs.
+// The lanes a leaf of n triangles is tested in: whole blocks.
+int lanes(int n) { return (n + WP_TRI_BLOCK - 1) / WP_TRI_BLOCK * WP_TRI_BLOCK; }
+
 double wide_sah(const bvh::FlatBvh& f, const bvh::FlattenOptions& o) {
     std::function<double(int)> node = [&](int i) {
         double c = 0.0;
@@ -246,7 +271,7 @@ double wide_sah(const bvh::FlatBvh& f, const bvh::FlattenOptions& o) {
             int ref = (&f.nodes[i].child0)[s];
             if (ref == -1) continue;
             double a = area_d(child_box(f.nodes[i], s));
-            c += ref >= 0 ? a * o.node_cost + node(ref) : a * o.tri_cost * ((~ref) & WP_LEAF_MAX_COUNT);
+            c += ref >= 0 ? a * o.node_cost + node(ref) : a * o.tri_cost * lanes((~ref) & WP_LEAF_MAX_COUNT);
         }
         return c;
     };
@@ -300,7 +325,7 @@ struct BruteCollapse {
     double best(int n) {  // n in one slot
         if (!std::isnan(best_memo[n])) return best_memo[n];
         double c = std::numeric_limits<double>::infinity();
-        if (b.nodes[n].leaf() || tris(n) <= o.max_leaf) c = area(n) * o.tri_cost * tris(n);
+        if (b.nodes[n].leaf() || tris(n) <= o.max_leaf) c = area(n) * o.tri_cost * lanes(tris(n));
         if (!b.nodes[n].leaf()) c = std::min(c, wide(n));
         return best_memo[n] = c;
     }

@@ -155,11 +155,22 @@ TEST_CASE("memory: a render's buffers are the struct sizes times the counts", "[
         CHECK(m.triangles == n);
 
         // BVH: 8-wide nodes of 6 rows of 8 floats, 8 child references and 8 ints of padding
-        // (256 bytes; 4-wide: 128), a parent link and slot per node, the triangles in leaf
-        // order (3 float4) and their ids.
+        // (256 bytes; 4-wide: 128), a parent link and slot per node, the leaves' triangles in
+        // blocks of 4 (9 float4 rows) and an id per block lane.
         const std::size_t node_bytes = 6 * WP_BVH_WIDTH * 4 + 2 * WP_BVH_WIDTH * 4;
         REQUIRE(sizeof(BvhNode) == node_bytes);
-        const std::size_t tri_bytes = 3 * 16;
+        const std::size_t tri_bytes = 3 * 16, block_bytes = 9 * 16;
+        REQUIRE(sizeof(TriBlock) == block_bytes);
+        // Blocks of a flattened tree, counted from its leaves: ceil(count / 4) each.
+        auto blocks_of = [](const bvh::FlatBvh& f) {
+            std::size_t b = 0;
+            for (const BvhNode& nd : f.nodes)
+                for (int s = 0; s < WP_BVH_WIDTH; ++s) {
+                    const int c = (&nd.child0)[s];
+                    if (c < -1) b += static_cast<std::size_t>(((~c) & WP_LEAF_MAX_COUNT) + 3) / 4;
+                }
+            return b;
+        };
         const std::size_t nodes = wf.stats().bvh_nodes;
         // Interior nodes: at least one; each has at least two children, so fewer than the
         // leaves, and leaves hold at least one triangle.
@@ -169,10 +180,13 @@ TEST_CASE("memory: a render's buffers are the struct sizes times the counts", "[
         auto flat = bvh::flatten(bvh::build(bvh::triangle_boxes(scene.positions, scene.triangles)),
                                  scene.positions, scene.triangles);
         CHECK(flat.nodes.size() == nodes);
+        const std::size_t blocks = blocks_of(flat);
+        CHECK(blocks >= (n + 3) / 4);
+        CHECK(blocks <= n);
         CHECK(bytes_of(m, "the BVH nodes") == nodes * node_bytes);
         CHECK(bytes_of(m, "the BVH links") == nodes * 2 * 4);
-        CHECK(bytes_of(m, "the triangles") == n * tri_bytes);
-        CHECK(bytes_of(m, "the triangle ids") == n * 4);
+        CHECK(bytes_of(m, "the triangles") == blocks * block_bytes);
+        CHECK(bytes_of(m, "the triangle ids") == blocks * 4 * 4);
         // The emitters' BVH of the last bounce (render --final-rays, on by default where it
         // applies, as here): the same layout over the emitting triangles alone.
         REQUIRE(wf.final_rays_through_emitters());
@@ -182,12 +196,14 @@ TEST_CASE("memory: a render's buffers are the struct sizes times the counts", "[
         const std::size_t ne = lights.size();
         REQUIRE(ne > 0);
         CHECK(wf.stats().emitter_bvh_triangles == ne);
-        const std::size_t enodes = bvh::flatten_subset(scene.positions, scene.triangles, lights).nodes.size();
+        const bvh::FlatBvh eflat = bvh::flatten_subset(scene.positions, scene.triangles, lights);
+        const std::size_t enodes = eflat.nodes.size(), eblocks = blocks_of(eflat);
+        CHECK(eblocks >= (ne + 3) / 4);
         CHECK(bytes_of(m, "the emitters' BVH nodes") == enodes * node_bytes);
         CHECK(bytes_of(m, "the emitters' BVH links") == enodes * 2 * 4);
-        CHECK(bytes_of(m, "the emitters' triangles") == ne * tri_bytes);
-        CHECK(bytes_of(m, "the emitters' triangle ids") == ne * 4);
-        CHECK(m.group("bvh") == (nodes + enodes) * (node_bytes + 8) + (n + ne) * (tri_bytes + 4));
+        CHECK(bytes_of(m, "the emitters' triangles") == eblocks * block_bytes);
+        CHECK(bytes_of(m, "the emitters' triangle ids") == eblocks * 4 * 4);
+        CHECK(m.group("bvh") == (nodes + enodes) * (node_bytes + 8) + (blocks + eblocks) * (block_bytes + 16));
         // Scene: the shading triangles in scene order and one material id per triangle.
         CHECK(bytes_of(m, "the shading triangles") == n * tri_bytes);
         CHECK(bytes_of(m, "the material ids") == n * 4);
@@ -253,7 +269,7 @@ TEST_CASE("render CLI: a scene larger than the device's memory fails before rend
           "[render][cli]") {
     test::TempDir d;
     {
-        // 1.5 MiB: the BVH (1.2 MiB for the built-in box's 16,020 triangles) fits, its
+        // 1.5 MiB: the BVH (1.0 MiB for the built-in box's 16,020 triangles) fits, its
         // shading triangles (16,020 x 48 bytes) do not.
         ScopedEnv env("WP_DEVICE_MEMORY_LIMIT", "1536K");
         auto r = test::run_render(d.path, "--size 64x48 --spp 1 -o out.exr --profile prof.json");
@@ -295,13 +311,13 @@ TEST_CASE("render CLI: a scene larger than the device's memory fails before rend
         fs::remove(d.path / "aov.trace.json");
     }
     {
-        // The nodes (1,431 x 256 bytes = 357.8 KiB) come first and do not fit.
-        ScopedEnv env("WP_DEVICE_MAX_ALLOC", "300K");
+        // The nodes (953 x 256 bytes = 238.2 KiB) come first and do not fit.
+        ScopedEnv env("WP_DEVICE_MAX_ALLOC", "200K");
         auto r = test::run_render(d.path, "--size 64x48 --spp 1 -o out.exr");
         INFO(r.err);
         CHECK(r.status == 1);
         CHECK(contains(r.err, "buffer too large for the BVH nodes"));
-        CHECK(contains(r.err, "at most 300.0 KiB per buffer"));
+        CHECK(contains(r.err, "at most 200.0 KiB per buffer"));
         CHECK(d.empty_of_images());
     }
     {

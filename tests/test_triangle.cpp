@@ -3,6 +3,8 @@
 #include <catch2/catch.hpp>
 
 #include <cmath>
+#include <cstdint>
+#include <cstring>
 
 #include "shared/triangle.h"
 #include "support.h"
@@ -120,4 +122,69 @@ TEST_CASE("degenerate triangles and directions give no hit and no NaN", "[unit][
     CHECK(t == 1.0f);
     CHECK(u == Approx(0.25f));
     CHECK(v == Approx(0.25f));
+}
+
+TEST_CASE("a leaf block's four lanes give the scalar test's verdict and t, u, v bit for bit",
+          "[unit][triangle][hard]") {
+    // wp_intersect_block (four triangles in SoA rows) against wp_intersect_triangle one by one:
+    // random triangles with rays aimed across their edges, two triangles sharing an edge with
+    // rays through it, zero-area and collinear triangles, rays with zero direction components,
+    // a tmin in front of some hits, and blocks of 1..4 lanes (the rest zero padding).
+    test::Rng rng(11);
+    int lanes_compared = 0, hits = 0;
+    auto bits = [](float x) {
+        std::uint32_t b;
+        std::memcpy(&b, &x, 4);
+        return b;
+    };
+    for (int i = 0; i < 50000; ++i) {
+        glm::vec3 tri[4][3];
+        for (int l = 0; l < 4; ++l)
+            for (int k = 0; k < 3; ++k) tri[l][k] = rng.unit_vector() * 2.0f;
+        const int kind = i % 5;
+        if (kind == 1) {  // lanes 0 and 1 share the edge (a, b), in opposite windings
+            tri[1][0] = tri[0][1];
+            tri[1][1] = tri[0][0];
+        } else if (kind == 2) {  // lane 2 zero-area (a point), lane 3 collinear
+            tri[2][1] = tri[2][2] = tri[2][0];
+            tri[3][2] = tri[3][0] + 0.5f * (tri[3][1] - tri[3][0]);
+        }
+        const int lanes = 1 + i % 4;
+        const int aim = static_cast<int>(rng.uniform(0.0f, 3.999f)) % lanes;
+        glm::vec3 o = rng.unit_vector() * 5.0f;
+        glm::vec3 target = kind == 1 ? tri[0][0] + rng.uniform(0.0f, 1.0f) * (tri[0][1] - tri[0][0])
+                                     : tri[aim][0] + rng.uniform(-0.2f, 1.2f) * (tri[aim][1] - tri[aim][0]) +
+                                           rng.uniform(-0.2f, 1.2f) * (tri[aim][2] - tri[aim][0]);
+        glm::vec3 d = target - o;
+        if (kind == 3) d.y = 0.0f, target.y = o.y;  // a zero direction component
+        if (kind == 4) d = -d;                      // pointing away: no hit in front
+        Ray ray = test::make_ray(o, d);
+        if (i % 7 == 0) ray.org.w = rng.uniform(0.0f, 6.0f);  // tmin
+        TriRay tr = wp_tri_ray(ray);
+        TriBlock blk{};
+        for (int l = 0; l < lanes; ++l)
+            for (int k = 0; k < 3; ++k)
+                for (int a = 0; a < 3; ++a) reinterpret_cast<float*>(&blk.row[3 * k + a])[l] = tri[l][k][a];
+        float4 t4, u4, v4;
+        const int m = wp_intersect_block(&tr, &blk, lanes, &t4, &u4, &v4);
+        INFO("case " << i << " lanes " << lanes);
+        REQUIRE((m & ~((1 << lanes) - 1)) == 0);
+        for (int l = 0; l < 4; ++l) {
+            float t = 0.0f, u = 0.0f, v = 0.0f;
+            // A padding lane is the zero triangle: the scalar test must miss it too.
+            const glm::vec3 z(0.0f);
+            const bool hit = l < lanes ? wp_intersect_triangle(&tr, f4(tri[l][0]), f4(tri[l][1]), f4(tri[l][2]), &t, &u, &v)
+                                       : wp_intersect_triangle(&tr, f4(z), f4(z), f4(z), &t, &u, &v);
+            INFO("lane " << l);
+            REQUIRE(((m >> l) & 1) == (l < lanes && hit ? 1 : 0));
+            ++lanes_compared;
+            if (!hit || l >= lanes) continue;
+            ++hits;
+            CHECK(bits(wp_lane4(t4, l)) == bits(t));
+            CHECK(bits(wp_lane4(u4, l)) == bits(u));
+            CHECK(bits(wp_lane4(v4, l)) == bits(v));
+        }
+    }
+    CHECK(lanes_compared == 200000);
+    CHECK(hits > 10000);
 }

@@ -212,21 +212,26 @@ WP_FN int wp_after(WpLanes t, int sc) {
 WP_FN int wp_leaf_first(int ref) { return (~ref) >> WP_LEAF_COUNT_BITS; }
 WP_FN int wp_leaf_count(int ref) { return (~ref) & WP_LEAF_MAX_COUNT; }
 
-// Intersects the triangles of one leaf, keeping the closest hit (ties: smallest prim).
-// Returns 1 when any triangle was hit (the any-hit traversal stops there).
-WP_FN int wp_intersect_leaf(const TriRay* tr, int ref, WP_GLOBAL const Triangle* tris,
+// Intersects the triangles of one leaf, a block of four at a time (wp_intersect_block),
+// keeping the closest hit (ties: smallest prim): each block's hit lanes in leaf order, so the
+// updates are those of a loop over the triangles. Returns 1 when any triangle was hit
+// (and kept by the alpha test).
+WP_FN int wp_intersect_leaf(const TriRay* tr, int ref, WP_GLOBAL const TriBlock* tris,
                             WP_GLOBAL const int* prim_ids, Hit* hit, TraceStats* stats WP_ALPHA_PARAM) {
     (void)stats;  // used only with WP_STATS
-    int first = wp_leaf_first(ref), count = wp_leaf_count(ref);
-    int any = 0;
-    for (int i = first; i < first + count; ++i) {
-        Triangle tri = tris[i];
-        float t, u, v;
+    const int first = wp_leaf_first(ref), count = wp_leaf_count(ref);
 #if defined(WP_STATS)
-        stats->tri_tests += 1;
+    stats->tri_tests += count;
 #endif
-        if (wp_intersect_triangle(tr, tri.v0, tri.v1, tri.v2, &t, &u, &v)) {
-            int prim = prim_ids[i];
+    int any = 0;
+    for (int b = 0; b * WP_TRI_BLOCK < count; ++b) {
+        float4 t4, u4, v4;
+        int m = wp_intersect_block(tr, tris + first + b, min(count - b * WP_TRI_BLOCK, WP_TRI_BLOCK), &t4, &u4, &v4);
+        for (; m != 0; m &= m - 1) {
+            const int i = wp_ctz32((uint)m);
+            const float t = wp_lane4(t4, i);
+            const int prim = prim_ids[(first + b) * WP_TRI_BLOCK + i];
+            const float u = wp_lane4(u4, i), v = wp_lane4(v4, i);
             if ((t < hit->t || (t == hit->t && prim < hit->prim))
 #if WP_HAVE_ALPHA_MASK
                 && wp_alpha_pass(alpha, prim, u, v)
@@ -245,24 +250,28 @@ WP_FN int wp_intersect_leaf(const TriRay* tr, int ref, WP_GLOBAL const Triangle*
 
 // The any-hit form: stops at the leaf's first triangle hit in (tmin, tmax) (and kept by
 // the alpha test), so it returns 1 exactly when wp_intersect_leaf would (whose first update
-// needs t < tmax, as hit->prim is still -1), without testing the rest of the leaf; the hit
-// it reports is that triangle, not the leaf's closest.
-WP_FN int wp_intersect_leaf_any(const TriRay* tr, int ref, WP_GLOBAL const Triangle* tris,
+// needs t < tmax, as hit->prim is still -1), without testing the blocks after it; the hit it
+// reports is that triangle, not the leaf's closest.
+WP_FN int wp_intersect_leaf_any(const TriRay* tr, int ref, WP_GLOBAL const TriBlock* tris,
                                 WP_GLOBAL const int* prim_ids, Hit* hit, TraceStats* stats WP_ALPHA_PARAM) {
     (void)stats;  // used only with WP_STATS
-    int first = wp_leaf_first(ref), count = wp_leaf_count(ref);
-    for (int i = first; i < first + count; ++i) {
-        Triangle tri = tris[i];
-        float t, u, v;
+    const int first = wp_leaf_first(ref), count = wp_leaf_count(ref);
+    for (int b = 0; b * WP_TRI_BLOCK < count; ++b) {
+        const int lanes = min(count - b * WP_TRI_BLOCK, WP_TRI_BLOCK);
 #if defined(WP_STATS)
-        stats->tri_tests += 1;
+        stats->tri_tests += lanes;
 #endif
-        if (wp_intersect_triangle(tr, tri.v0, tri.v1, tri.v2, &t, &u, &v) && t < hit->t) {
-            int prim = prim_ids[i];
+        float4 t4, u4, v4;
+        int m = wp_intersect_block(tr, tris + first + b, lanes, &t4, &u4, &v4) &
+                wp_mask4_lt(t4, wp_splat4(hit->t));
+        for (; m != 0; m &= m - 1) {
+            const int i = wp_ctz32((uint)m);
+            const int prim = prim_ids[(first + b) * WP_TRI_BLOCK + i];
+            const float u = wp_lane4(u4, i), v = wp_lane4(v4, i);
 #if WP_HAVE_ALPHA_MASK
             if (!wp_alpha_pass(alpha, prim, u, v)) continue;
 #endif
-            hit->t = t;
+            hit->t = wp_lane4(t4, i);
             hit->prim = prim;
             hit->u = u;
             hit->v = v;
@@ -294,7 +303,7 @@ WP_FN Hit wp_miss(Ray ray) {
 // the climb falls back to the up-links and the re-test. The state stays bounded (the
 // 64-bit word, the ring, no stack that grows with depth).
 WP_FN Hit wp_trace_stackless(Ray ray, WP_GLOBAL const BvhNode* nodes,
-                             WP_GLOBAL const BvhLinks* links, WP_GLOBAL const Triangle* tris,
+                             WP_GLOBAL const BvhLinks* links, WP_GLOBAL const TriBlock* tris,
                              WP_GLOBAL const int* prim_ids, int any_hit, TraceStats* stats WP_ALPHA_PARAM) {
     Hit hit = wp_miss(ray);
     BoxRay br = wp_box_ray(ray);
@@ -376,7 +385,7 @@ WP_FN Hit wp_trace_stackless(Ray ray, WP_GLOBAL const BvhNode* nodes,
 // variable that changes only with the closest hit. The same node tests, candidates and
 // order as the generic walk, so the same hits bit for bit (tested against it on the host).
 WP_FN Hit wp_trace_closest(Ray ray, WP_GLOBAL const BvhNode* nodes, WP_GLOBAL const BvhLinks* links,
-                           WP_GLOBAL const Triangle* tris, WP_GLOBAL const int* prim_ids,
+                           WP_GLOBAL const TriBlock* tris, WP_GLOBAL const int* prim_ids,
                            TraceStats* stats WP_ALPHA_PARAM) {
     Hit hit = wp_miss(ray);
     BoxRay br = wp_box_ray(ray);
@@ -464,7 +473,7 @@ WP_FN Hit wp_trace_closest(Ray ray, WP_GLOBAL const BvhNode* nodes, WP_GLOBAL co
 // Eight bytes an entry make a deeper ring cheap (WP_BVH_ANY_RING); past it the climb
 // falls back to the up-links and a re-test, as in the closest-hit traversal.
 WP_FN Hit wp_trace_any(Ray ray, WP_GLOBAL const BvhNode* nodes, WP_GLOBAL const BvhLinks* links,
-                       WP_GLOBAL const Triangle* tris, WP_GLOBAL const int* prim_ids,
+                       WP_GLOBAL const TriBlock* tris, WP_GLOBAL const int* prim_ids,
                        TraceStats* stats WP_ALPHA_PARAM) {
     Hit hit = wp_miss(ray);
     BoxRay br = wp_box_ray(ray);
@@ -534,7 +543,7 @@ WP_FN Hit wp_trace_any(Ray ray, WP_GLOBAL const BvhNode* nodes, WP_GLOBAL const 
 // Ordered traversal with a private stack of (child reference, entry distance): the same
 // visiting order as wp_trace_closest, the remaining children pushed far to near.
 WP_FN Hit wp_trace_closest_stack(Ray ray, WP_GLOBAL const BvhNode* nodes,
-                                 WP_GLOBAL const BvhLinks* links, WP_GLOBAL const Triangle* tris,
+                                 WP_GLOBAL const BvhLinks* links, WP_GLOBAL const TriBlock* tris,
                                  WP_GLOBAL const int* prim_ids, TraceStats* stats WP_ALPHA_PARAM) {
     (void)links;  // same arguments as the stackless traversal; the stack needs no up-links
     Hit hit = wp_miss(ray);

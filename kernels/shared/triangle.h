@@ -59,11 +59,36 @@ WP_FN int wp_intersect_triangle(const TriRay* r, float4 v0, float4 v1, float4 v2
     *v_out = v;
     return 1;
 }
+
+// The same test on the four lanes of a leaf block (types.h), for the traversal.
+WP_FN int wp_intersect_block(const TriRay* r, WP_GLOBAL const TriBlock* blk, int lanes, float4* t_out,
+                             float4* u_out, float4* v_out) {
+    WP_GLOBAL const float4* row = blk->row;
+    const float4 dx = wp_splat4(r->dir.x), dy = wp_splat4(r->dir.y), dz = wp_splat4(r->dir.z);
+    const float4 e1x = row[3] - row[0], e1y = row[4] - row[1], e1z = row[5] - row[2];
+    const float4 e2x = row[6] - row[0], e2y = row[7] - row[1], e2z = row[8] - row[2];
+    const float4 px = dy * e2z - dz * e2y, py = dz * e2x - dx * e2z, pz = dx * e2y - dy * e2x;
+    const float4 det = e1x * px + e1y * py + e1z * pz;
+    const float4 zero = wp_splat4(0.0f), one = wp_splat4(1.0f);
+    const float4 inv = one / det;
+    const float4 sx = wp_splat4(r->org.x) - row[0], sy = wp_splat4(r->org.y) - row[1],
+                 sz = wp_splat4(r->org.z) - row[2];
+    const float4 u = (sx * px + sy * py + sz * pz) * inv;
+    const float4 qx = sy * e1z - sz * e1y, qy = sz * e1x - sx * e1z, qz = sx * e1y - sy * e1x;
+    const float4 v = (dx * qx + dy * qy + dz * qz) * inv;
+    const float4 t = (e2x * qx + e2y * qy + e2z * qz) * inv;
+    *t_out = t;
+    *u_out = u;
+    *v_out = v;
+    return ~wp_mask4_eq(det, zero) & ~wp_mask4_lt(u, zero) & ~wp_mask4_lt(one, u) & ~wp_mask4_lt(v, zero) &
+           ~wp_mask4_lt(one, u + v) & wp_mask4_lt(wp_splat4(r->tmin), t) & ((1 << lanes) - 1);
+}
 #else
 
 // Per-ray constants of the watertight test.
 typedef struct TriRay {
     float4 org;  // ray origin (w = 0)
+    float4 porg; // the origin permuted: (org[kx], org[ky], org[kz], 0)
     uint4 perm;  // lane permutation (kx, ky, kz, 3)
     float sx;    // shear: -dir[kx] / dir[kz] is applied as x - sx * z
     float sy;
@@ -88,6 +113,7 @@ WP_FN TriRay wp_tri_ray(Ray ray) {
     }
     r.org = make_float4(ray.org.x, ray.org.y, ray.org.z, 0.0f);
     r.perm = make_uint4(kx, ky, kz, 3u);
+    r.porg = wp_permute(r.org, r.perm);
 #if defined(WP_OPENCL) && defined(__AVX__) && defined(__x86_64__)
     // One four-lane divide (each lane correctly rounded: the same bits as three scalar ones).
     // x86 OpenCL (PoCL) only: Oclgrind 21.10's uninitialized-value check crashes on it.
@@ -134,6 +160,45 @@ WP_FN int wp_intersect_triangle(const TriRay* r, float4 v0, float4 v1, float4 v2
     return 1;
 }
 #endif  // WP_PLAIN_TRIANGLES
+
+#if !defined(WP_PLAIN_TRIANGLES)
+// The four triangles of a leaf block (types.h) at once: wp_intersect_triangle's arithmetic
+// lane by lane, in the same order, so each lane's t, u, v and verdict are its bits (FP
+// contraction is off everywhere, and a lane's divide rounds like a scalar one). Returns the
+// lanes (bits 0..3, only those below `lanes`) that wp_intersect_triangle would report a hit
+// for, their t, u and v in the lanes of *t_out, *u_out, *v_out.
+WP_FN int wp_intersect_block(const TriRay* r, WP_GLOBAL const TriBlock* blk, int lanes, float4* t_out,
+                             float4* u_out, float4* v_out) {
+    WP_GLOBAL const float4* row = blk->row;
+    const int kx = (int)r->perm.x, ky = (int)r->perm.y, kz = (int)r->perm.z;
+    const float4 ox = wp_splat4(r->porg.x), oy = wp_splat4(r->porg.y), oz = wp_splat4(r->porg.z);
+    // Vertices relative to the origin, in the ray's permuted frame (rows picked by axis).
+    const float4 Az = row[kz] - oz, Bz = row[3 + kz] - oz, Cz = row[6 + kz] - oz;
+    const float4 sx = wp_splat4(r->sx), sy = wp_splat4(r->sy), sz = wp_splat4(r->sz);
+    // Shear so the ray is the +z axis.
+    const float4 ax = (row[kx] - ox) - sx * Az, ay = (row[ky] - oy) - sy * Az;
+    const float4 bx = (row[3 + kx] - ox) - sx * Bz, by = (row[3 + ky] - oy) - sy * Bz;
+    const float4 cx = (row[6 + kx] - ox) - sx * Cz, cy = (row[6 + ky] - oy) - sy * Cz;
+    // Scaled barycentric coordinates (edge functions).
+    const float4 U = cx * by - cy * bx;
+    const float4 V = ax * cy - ay * cx;
+    const float4 W = bx * ay - by * ax;
+    const float4 zero = wp_splat4(0.0f);
+    const int neg = wp_mask4_lt(U, zero) | wp_mask4_lt(V, zero) | wp_mask4_lt(W, zero);
+    const int pos = wp_mask4_lt(zero, U) | wp_mask4_lt(zero, V) | wp_mask4_lt(zero, W);
+    const float4 det = U + V + W;
+    // Scaled hit distance, then t.
+    const float4 T = U * (sz * Az) + V * (sz * Bz) + W * (sz * Cz);
+    const float4 rcp = wp_splat4(1.0f) / det;
+    const float4 t = T * rcp;
+    *t_out = t;
+    *u_out = V * rcp;
+    *v_out = W * rcp;
+    // Inside (all edge values of one sign, zeros counting as either), not in the ray's plane
+    // (det 0), in front of tmin (which also drops NaN), and a lane of the leaf.
+    return ~(neg & pos) & ~wp_mask4_eq(det, zero) & wp_mask4_lt(wp_splat4(r->tmin), t) & ((1 << lanes) - 1);
+}
+#endif
 
 WP_NAMESPACE_END
 

@@ -49,6 +49,16 @@ typedef struct Triangle {
     float4 v2;  // xyz: vertex 2; w: 0
 } Triangle;
 
+// Up to four triangles of one BVH leaf as the traversal reads them: their vertices as SoA
+// rows, row[3 * v + axis] = coordinate `axis` of vertex v, lane i = the leaf's triangle
+// 4b + i of block b. The ray's permuted axes pick rows by index, and one four-lane test
+// (triangle.h, wp_intersect_block) covers the block. Lanes past the leaf's count hold
+// zeros: a degenerate triangle that no ray hits. 144 bytes.
+#define WP_TRI_BLOCK 4
+typedef struct TriBlock {
+    float4 row[9];
+} TriBlock;
+
 // --- Stackless wide BVH (see src/bvh/flatten.h for how it is built) -----------------
 // A binary SAH tree collapsed to up to WP_BVH_WIDTH (8, or 4) children per interior node.
 // Each node stores the boxes of its children as SoA rows, one WpLanes vector (float8, or
@@ -108,8 +118,10 @@ typedef struct BvhNode {
 } BvhNode;
 #endif
 // A child reference c is an interior node index when c >= 0, else a leaf:
-//   ~c = (first << WP_LEAF_COUNT_BITS) | count, triangles [first, first + count) of the
-//   leaf-ordered triangle array. count 0 (c = -1) is the empty leaf of unused slots.
+//   ~c = (first << WP_LEAF_COUNT_BITS) | count: `count` triangles in the blocks [first,
+//   first + ceil(count / WP_TRI_BLOCK)) of the leaf-ordered TriBlock array; triangle i of
+//   the leaf is lane i % 4 of block first + i / 4, its original index prim_ids[4 * first +
+//   i] (-1 in the padding lanes). count 0 (c = -1) is the empty leaf of unused slots.
 // An unused slot (a node with fewer than WP_BVH_WIDTH children) holds the inverted box
 // lo = +FLT_MAX, hi = -FLT_MAX in every axis, which no ray enters (its entry distance lies
 // beyond its exit whatever the direction's sign, zero components included), and child
@@ -153,6 +165,7 @@ typedef struct TraceStats {
     X(sizeof(Hit)) X(__builtin_offsetof(Hit, prim)) X(__builtin_offsetof(Hit, u))          \
     X(__builtin_offsetof(Hit, v))                                                         \
     X(sizeof(Triangle)) X(__builtin_offsetof(Triangle, v1)) X(__builtin_offsetof(Triangle, v2)) \
+    X(sizeof(TriBlock)) X(__builtin_offsetof(TriBlock, row[8]))                            \
     X(sizeof(BvhNode)) X(__builtin_offsetof(BvhNode, hi_x)) X(__builtin_offsetof(BvhNode, hi_z)) \
     X(__builtin_offsetof(BvhNode, child0)) X(__builtin_offsetof(BvhNode, pad0))           \
     X(sizeof(BvhLinks)) X(__builtin_offsetof(BvhLinks, slot))                             \

@@ -9,12 +9,12 @@ DeviceBvh DeviceBvh::upload(const ocl::Device& dev, const FlatBvh& flat, std::st
     DeviceBvh d;
     d.nodes = ocl::Array<BvhNode>::upload(dev, flat.nodes, name("BVH nodes").c_str());
     d.links = ocl::Array<BvhLinks>::upload(dev, flat.links, name("BVH links").c_str());
-    d.triangles = ocl::Array<Triangle>::upload(dev, flat.triangles, name("triangles").c_str());
+    d.triangles = ocl::Array<TriBlock>::upload(dev, flat.triangles, name("triangles").c_str());
     d.prim_ids = ocl::Array<int>::upload(dev, flat.prim_ids, name("triangle ids").c_str());
     d.node_count = static_cast<int>(flat.nodes.size());
-    d.triangle_count = static_cast<int>(flat.triangles.size());
+    d.triangle_count = static_cast<int>(flat.triangle_count);
     d.bytes = flat.nodes.size() * sizeof(BvhNode) + flat.links.size() * sizeof(BvhLinks) +
-              flat.triangles.size() * sizeof(Triangle) + flat.prim_ids.size() * sizeof(int);
+              flat.triangles.size() * sizeof(TriBlock) + flat.prim_ids.size() * sizeof(int);
     return d;
 }
 

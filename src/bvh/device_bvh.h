@@ -24,8 +24,8 @@ namespace wp::bvh {
 struct DeviceBvh {
     ocl::Array<BvhNode> nodes;
     ocl::Array<BvhLinks> links;
-    ocl::Array<Triangle> triangles;  // leaf order
-    ocl::Array<int> prim_ids;        // leaf slot -> original triangle index
+    ocl::Array<TriBlock> triangles;  // the leaves' triangles in blocks (FlatBvh::triangles)
+    ocl::Array<int> prim_ids;        // block lane -> original triangle index; -1: padding
     int node_count = 0;
     int triangle_count = 0;
     std::size_t bytes = 0;

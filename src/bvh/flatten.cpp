@@ -76,6 +76,11 @@ struct Flattener {
         return std::max(0.0, ex * ey + ey * ez + ez * ex);
     }
 
+    // A leaf of `count` triangles is tested a block of WP_TRI_BLOCK lanes at a time, so it
+    // costs its lanes, padding included: whole blocks fill first.
+    double leaf_cost(int count) const {
+        return opt.tri_cost * WP_TRI_BLOCK * ((count + WP_TRI_BLOCK - 1) / WP_TRI_BLOCK);
+    }
     using Costs = std::array<double, WP_BVH_WIDTH + 1>;  // [i]: at most i slots (i >= 1)
 
     // Plans the subtree under host node n (post order); returns its costs.
@@ -89,7 +94,7 @@ struct Flattener {
             sub_count[n] = nd.count;
             pl.leaf = true;
             for (int i = 1; i <= WP_BVH_WIDTH; ++i) {
-                c[i] = a * opt.tri_cost * nd.count;
+                c[i] = a * leaf_cost(nd.count);
                 pl.one |= static_cast<std::uint16_t>(1u << i);
             }
             return c;
@@ -111,7 +116,7 @@ struct Flattener {
         const double interior = a * opt.node_cost + dist[WP_BVH_WIDTH];
         double one = interior;
         if (sub_count[n] <= opt.max_leaf) {
-            const double leaf = a * opt.tri_cost * sub_count[n];
+            const double leaf = a * leaf_cost(sub_count[n]);
             if (leaf <= interior) {
                 one = leaf;
                 pl.leaf = true;
@@ -177,6 +182,52 @@ int leaf_ref(int first, int count) {
     return ~((first << WP_LEAF_COUNT_BITS) | count);
 }
 
+namespace {
+
+// Rewrites every leaf reference from a range of the leaf-ordered triangles `tris` (ids:
+// their original indices) to blocks of WP_TRI_BLOCK triangles in SoA rows (types.h), filling
+// out.triangles and out.prim_ids (padding lanes: zero vertices, id -1).
+void leaves_to_blocks(FlatBvh& out, const std::vector<Triangle>& tris, const std::vector<int>& ids) {
+    out.triangles.clear();
+    out.prim_ids.clear();
+    out.triangle_count = tris.size();
+    out.triangles.reserve(tris.size() / 2 + 1);
+    out.prim_ids.reserve(tris.size() * 2 + WP_TRI_BLOCK);
+    for (BvhNode& nd : out.nodes) {
+        for (int s = 0; s < WP_BVH_WIDTH; ++s) {
+            int& c = (&nd.child0)[s];
+            if (c >= 0) continue;
+            const int first = (~c) >> WP_LEAF_COUNT_BITS, count = (~c) & WP_LEAF_MAX_COUNT;
+            if (count == 0) {
+                c = kEmptyLeaf;
+                continue;
+            }
+            const int b0 = static_cast<int>(out.triangles.size());
+            for (int i = 0; i < count; i += WP_TRI_BLOCK) {
+                TriBlock blk{};  // zeros: the padding lanes' degenerate triangle
+                for (int l = 0; l < WP_TRI_BLOCK; ++l) {
+                    if (i + l >= count) {
+                        out.prim_ids.push_back(-1);
+                        continue;
+                    }
+                    const Triangle& t = tris[static_cast<std::size_t>(first + i + l)];
+                    const float4* v[3] = {&t.v0, &t.v1, &t.v2};
+                    for (int k = 0; k < 3; ++k) {
+                        reinterpret_cast<float*>(&blk.row[3 * k + 0])[l] = v[k]->x;
+                        reinterpret_cast<float*>(&blk.row[3 * k + 1])[l] = v[k]->y;
+                        reinterpret_cast<float*>(&blk.row[3 * k + 2])[l] = v[k]->z;
+                    }
+                    out.prim_ids.push_back(ids[static_cast<std::size_t>(first + i + l)]);
+                }
+                out.triangles.push_back(blk);
+            }
+            c = leaf_ref(b0, count);
+        }
+    }
+}
+
+}  // namespace
+
 std::vector<Aabb> triangle_boxes(std::span<const glm::vec3> positions, std::span<const glm::uvec3> indices) {
     std::vector<Aabb> boxes(indices.size());
     for (std::size_t i = 0; i < indices.size(); ++i) {
@@ -188,9 +239,9 @@ std::vector<Aabb> triangle_boxes(std::span<const glm::vec3> positions, std::span
 FlatBvh flatten(const Bvh& bvh, std::span<const glm::vec3> positions, std::span<const glm::uvec3> indices,
                 const FlattenOptions& options) {
     FlatBvh out;
-    // Triangles in leaf order, .w lanes 0.
-    out.triangles.resize(bvh.prim_order.size());
-    out.prim_ids.resize(bvh.prim_order.size());
+    // Triangles in leaf order (the collapse's leaves are ranges of it); blocks at the end.
+    std::vector<Triangle> tris(bvh.prim_order.size());
+    std::vector<int> ids(bvh.prim_order.size());
     for (std::size_t i = 0; i < bvh.prim_order.size(); ++i) {
         std::uint32_t p = bvh.prim_order[i];
         const glm::uvec3& t = indices[p];
@@ -198,8 +249,8 @@ FlatBvh flatten(const Bvh& bvh, std::span<const glm::vec3> positions, std::span<
             const glm::vec3& q = positions[t[k]];
             return float4{q.x, q.y, q.z, 0.0f};
         };
-        out.triangles[i] = {v(0), v(1), v(2)};
-        out.prim_ids[i] = static_cast<int>(p);
+        tris[i] = {v(0), v(1), v(2)};
+        ids[i] = static_cast<int>(p);
     }
     if (options.max_leaf < 1 || options.max_leaf > WP_LEAF_MAX_COUNT)
         fail("BVH flatten: max_leaf {} outside 1..{}", options.max_leaf, WP_LEAF_MAX_COUNT);
@@ -222,6 +273,7 @@ FlatBvh flatten(const Bvh& bvh, std::span<const glm::vec3> positions, std::span<
         out.nodes.push_back(dn);
         out.links.push_back({-1, 0});
         out.depth = 1;
+        leaves_to_blocks(out, tris, ids);
         return out;
     }
     f.plan.resize(bvh.nodes.size());
@@ -233,6 +285,7 @@ FlatBvh flatten(const Bvh& bvh, std::span<const glm::vec3> positions, std::span<
     f.emit(0, -1, 0, 1);
     out.depth = f.max_level;
     if (out.depth > WP_BVH_MAX_DEPTH) fail("BVH of {} levels exceeds the traversal's {}", out.depth, WP_BVH_MAX_DEPTH);
+    leaves_to_blocks(out, tris, ids);
     return out;
 }
 
@@ -242,7 +295,8 @@ FlatBvh flatten_subset(std::span<const glm::vec3> positions, std::span<const glm
     tris.reserve(subset.size());
     for (int k : subset) tris.push_back(indices[static_cast<std::size_t>(k)]);
     FlatBvh flat = flatten(build(triangle_boxes(positions, tris)), positions, tris);
-    for (int& p : flat.prim_ids) p = subset[static_cast<std::size_t>(p)];
+    for (int& p : flat.prim_ids)
+        if (p >= 0) p = subset[static_cast<std::size_t>(p)];  // -1: a block's padding lane
     return flat;
 }
 

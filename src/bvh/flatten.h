@@ -46,8 +46,9 @@ namespace wp::bvh {
 struct FlatBvh {
     std::vector<BvhNode> nodes;
     std::vector<BvhLinks> links;
-    std::vector<Triangle> triangles;   // leaf order
-    std::vector<int> prim_ids;         // leaf order -> original triangle index
+    std::vector<TriBlock> triangles;   // the leaves' triangles in blocks of WP_TRI_BLOCK (types.h)
+    std::vector<int> prim_ids;         // block * WP_TRI_BLOCK + lane -> original triangle index; -1: padding
+    std::size_t triangle_count = 0;    // triangles in the leaves (the blocks' lanes minus padding)
     int depth = 0;                     // interior levels
 };
 
@@ -58,7 +59,7 @@ std::vector<Aabb> triangle_boxes(std::span<const glm::vec3> positions, std::span
 // tri_cost 0.3, 0.5 and 1 trace within 2 % of each other on the built-in box).
 struct FlattenOptions {
     float node_cost = 1.0f;  // one wide-node visit: WP_BVH_WIDTH box tests together
-    float tri_cost = 0.5f;   // one triangle test
+    float tri_cost = 0.5f;   // one triangle lane of a leaf block (a leaf costs its blocks' lanes)
     int max_leaf = 8;        // triangles in a leaf that merges binary leaves (1..WP_LEAF_MAX_COUNT);
                              // a binary leaf itself is never split
 };

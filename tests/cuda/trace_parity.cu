@@ -15,7 +15,7 @@
 #define CHECK(x) do { cudaError_t e = (x); if (e != cudaSuccess) { std::fprintf(stderr, "%s: %s\n", #x, cudaGetErrorString(e)); return 1; } } while (0)
 
 __global__ void trace(int variant, const Ray* rays, int n, const BvhNode* nodes, const BvhLinks* links,
-                      const Triangle* tris, const int* prim_ids, Hit* out) {
+                      const TriBlock* tris, const int* prim_ids, Hit* out) {
     int i = blockIdx.x * blockDim.x + threadIdx.x;
     if (i >= n) return;
     TraceStats st{0, 0};
@@ -44,19 +44,19 @@ int main(int argc, char** argv) {
     trace_parity::Header h;
     if (std::fread(&h, sizeof h, 1, f) != 1 || std::strcmp(h.magic, "WPTRACE") != 0 ||
         h.node_size != int(sizeof(BvhNode)) || h.link_size != int(sizeof(BvhLinks)) ||
-        h.tri_size != int(sizeof(Triangle)) || h.ray_size != int(sizeof(Ray)) || h.hit_size != int(sizeof(Hit))) {
+        h.tri_size != int(sizeof(TriBlock)) || h.ray_size != int(sizeof(Ray)) || h.hit_size != int(sizeof(Hit))) {
         std::fprintf(stderr, "%s: not a trace_parity input of these layouts\n", argv[1]);
         return 1;
     }
-    std::vector<BvhNode> nodes; std::vector<BvhLinks> links; std::vector<Triangle> tris;
+    std::vector<BvhNode> nodes; std::vector<BvhLinks> links; std::vector<TriBlock> tris;
     std::vector<int> prim_ids; std::vector<Ray> rays;
     if (!read_array(f, nodes, h.nodes) || !read_array(f, links, h.nodes) || !read_array(f, tris, h.tris) ||
-        !read_array(f, prim_ids, h.tris) || !read_array(f, rays, h.rays)) {
+        !read_array(f, prim_ids, h.tris * WP_TRI_BLOCK) || !read_array(f, rays, h.rays)) {
         std::fprintf(stderr, "%s: truncated\n", argv[1]);
         return 1;
     }
     std::fclose(f);
-    BvhNode* dn; BvhLinks* dl; Triangle* dt; int* dp; Ray* dr; Hit* dh;
+    BvhNode* dn; BvhLinks* dl; TriBlock* dt; int* dp; Ray* dr; Hit* dh;
     if (upload(&dn, nodes) || upload(&dl, links) || upload(&dt, tris) || upload(&dp, prim_ids) || upload(&dr, rays)) return 1;
     CHECK(cudaMalloc(&dh, sizeof(Hit) * rays.size() * trace_parity::kVariants));
     cudaDeviceProp prop;

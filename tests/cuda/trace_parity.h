@@ -11,7 +11,7 @@ namespace trace_parity {
 struct Header {
     char magic[8];         // "WPTRACE" + NUL (input) or "WPHITS" + NULs (output)
     std::int32_t nodes;    // BvhNode count (the links array has as many entries)
-    std::int32_t tris;     // leaf-ordered Triangle count (prim_ids has as many entries)
+    std::int32_t tris;     // leaf TriBlock count (prim_ids has WP_TRI_BLOCK entries for each)
     std::int32_t rays;     // Ray count
     std::int32_t node_size, link_size, tri_size, ray_size, hit_size;  // sizeof each
 };

@@ -42,7 +42,7 @@ trace_parity::Header header(const char* magic, int nodes, int tris, int rays) {
     h.rays = rays;
     h.node_size = sizeof(BvhNode);
     h.link_size = sizeof(BvhLinks);
-    h.tri_size = sizeof(Triangle);
+    h.tri_size = sizeof(TriBlock);
     h.ray_size = sizeof(Ray);
     h.hit_size = sizeof(Hit);
     return h;
@@ -73,8 +73,8 @@ int make_input(const char* path, int n) {
     write_array(f, flat.prim_ids);
     write_array(f, rays);
     bool ok = std::fclose(f) == 0;
-    std::printf("trace_parity: %s: %zu nodes (depth %d), %zu triangles, %d rays\n", path, flat.nodes.size(),
-                flat.depth, flat.triangles.size(), n);
+    std::printf("trace_parity: %s: %zu nodes (depth %d), %zu triangles in %zu blocks, %d rays\n", path, flat.nodes.size(),
+                flat.depth, flat.triangle_count, flat.triangles.size(), n);
     return ok ? 0 : 1;
 }
 
@@ -88,13 +88,13 @@ int check(const char* in_path, const char* out_path) {
     trace_parity::Header h{}, oh{};
     std::vector<BvhNode> nodes;
     std::vector<BvhLinks> links;
-    std::vector<Triangle> tris;
+    std::vector<TriBlock> tris;
     std::vector<int> prim_ids;
     std::vector<Ray> rays;
     std::vector<Hit> hits;
     if (std::fread(&h, sizeof h, 1, f) != 1 || std::strcmp(h.magic, "WPTRACE") != 0 ||
         !same_layout(h, header("WPTRACE", h.nodes, h.tris, h.rays)) || !read_array(f, nodes, h.nodes) ||
-        !read_array(f, links, h.nodes) || !read_array(f, tris, h.tris) || !read_array(f, prim_ids, h.tris) ||
+        !read_array(f, links, h.nodes) || !read_array(f, tris, h.tris) || !read_array(f, prim_ids, h.tris * WP_TRI_BLOCK) ||
         !read_array(f, rays, h.rays)) {
         std::fprintf(stderr, "%s: not a trace_parity input of this build's layouts\n", in_path);
         return 1;
