@@ -55,8 +55,10 @@ struct FlatBvh {
 // One box per triangle, for build().
 std::vector<Aabb> triangle_boxes(std::span<const glm::vec3> positions, std::span<const glm::uvec3> indices);
 
-// The collapse's SAH costs (relative to each other; measured on PoCL, docs/performance.md:
-// tri_cost 0.3, 0.5 and 1 trace within 2 % of each other on the built-in box).
+// The collapse's SAH costs (relative to each other; measured on PoCL, docs/performance.md,
+// seventeenth round: with leaf blocks a leaf costs tri_cost for each of its blocks' four
+// lanes, padding included, i.e. 2.0 a block; flat block costs of 0.6, 1.0, 1.25 and 1.5
+// traced 1.5-10 % slower on the built-in box).
 struct FlattenOptions {
     float node_cost = 1.0f;  // one wide-node visit: WP_BVH_WIDTH box tests together
     float tri_cost = 0.5f;   // one triangle lane of a leaf block (a leaf costs its blocks' lanes)
