@@ -684,6 +684,131 @@ WP_FN void wp_add_radiance8(WP_GLOBAL float4* radiance, const int* item, int8 m,
         if (bits & (1 << l)) wp_add_radiance(radiance, item[l], make_float3(cx[l], cy[l], cz[l]), counters);
 }
 
+#if WP_HAVE_NEE
+// The light sample's triangle in every lane: its vertices, frame (unit normal and offset
+// share, tri_frames), density per unit area (with the pair's share: lights.h), emission and
+// shadow clearance (0 without WP_HAVE_LIGHT_CLEARANCE).
+typedef struct LightLanes8 {
+    L3 v0, v1, v2, n, le;
+    float8 offset, pdf_area, clearance;
+} LightLanes8;
+
+#define WP_LIGHT_LANES_ARGS                                                                     \
+    light_cdf, light_guide, light_guide_size, light_prims, light_pdf_area, light_pairs, light_clearance, \
+        light_count, tris, tri_frames, material_ids, materials
+
+// The lanes' lights, one lane at a time: the light table's pick for u (lanes.h's
+// wp_light_pick; light 0 in the lanes outside `sampled`: no search, no miss on a random
+// light), with light pairs the pair's choice from origin org (shade_surface's), and the
+// light triangle's data.
+WP_FN LightLanes8 wp_light_lanes_gather8(WP_GLOBAL const float* light_cdf, WP_GLOBAL const int* light_guide,
+                                         int light_guide_size, WP_GLOBAL const int* light_prims,
+                                         WP_GLOBAL const float* light_pdf_area,
+                                         WP_GLOBAL const LightPair* light_pairs,
+                                         WP_GLOBAL const float* light_clearance, int light_count,
+                                         WP_GLOBAL const Triangle* tris, WP_GLOBAL const float4* tri_frames,
+                                         WP_GLOBAL const int* material_ids,
+                                         WP_GLOBAL const MaterialData* materials, float8 u, int8 sampled,
+                                         L3 org) {
+    float ua[8];
+    vstore8(u, 0, ua);
+    float l0x[8], l0y[8], l0z[8], l1x[8], l1y[8], l1z[8], l2x[8], l2y[8], l2z[8];
+    float lnx[8], lny[8], lnz[8], loff[8], lpa[8], lex[8], ley[8], lez[8], lcl[8];
+    const int sampled_bits = wp_lane_bits(sampled);
+#if WP_HAVE_LIGHT_PAIRS
+    float orx[8], ory[8], orz[8];
+    vstore8(org.x, 0, orx), vstore8(org.y, 0, ory), vstore8(org.z, 0, orz);
+#else
+    (void)light_pairs, (void)org;
+#endif
+#pragma unroll
+    for (int l = 0; l < 8; ++l) {
+        int li = (sampled_bits >> l) & 1 ? wp_light_pick(light_cdf, light_count, light_guide, light_guide_size, ua[l]) : 0;
+        int lp = light_prims[li];
+#if WP_HAVE_LIGHT_PAIRS
+        if ((sampled_bits >> l) & 1)
+            lp = wp_light_pair_choose(light_pdf_area, light_pairs, tris, tri_frames, lp,
+                                      make_float3(orx[l], ory[l], orz[l]), &lpa[l]);
+        else
+            lpa[l] = light_pdf_area[lp];
+#else
+        lpa[l] = light_pdf_area[lp];
+#endif
+        Triangle lt = tris[lp];
+        float4 lf = tri_frames[lp];
+        float4 le = materials[material_ids[lp]].emission;
+        l0x[l] = lt.v0.x, l0y[l] = lt.v0.y, l0z[l] = lt.v0.z;
+        l1x[l] = lt.v1.x, l1y[l] = lt.v1.y, l1z[l] = lt.v1.z;
+        l2x[l] = lt.v2.x, l2y[l] = lt.v2.y, l2z[l] = lt.v2.z;
+        lnx[l] = lf.x, lny[l] = lf.y, lnz[l] = lf.z, loff[l] = lf.w;
+        lex[l] = le.x, ley[l] = le.y, lez[l] = le.z;
+#if WP_HAVE_LIGHT_CLEARANCE
+        lcl[l] = light_clearance[lp];
+#else
+        lcl[l] = 0.0f;
+#endif
+    }
+    LightLanes8 L;
+    L.v0 = l3(vload8(0, l0x), vload8(0, l0y), vload8(0, l0z));
+    L.v1 = l3(vload8(0, l1x), vload8(0, l1y), vload8(0, l1z));
+    L.v2 = l3(vload8(0, l2x), vload8(0, l2y), vload8(0, l2z));
+    L.n = l3(vload8(0, lnx), vload8(0, lny), vload8(0, lnz));
+    L.le = l3(vload8(0, lex), vload8(0, ley), vload8(0, lez));
+    L.offset = vload8(0, loff);
+    L.pdf_area = vload8(0, lpa);
+    L.clearance = vload8(0, lcl);
+    return L;
+}
+
+#if !WP_HAVE_LIGHT_PAIRS
+// Light tables of at most this many lights take wp_light_lanes_few8.
+#define WP_FEW_LIGHTS 4
+// wp_light_lanes_gather8 without pairs for a table of n <= WP_FEW_LIGHTS lights, as vector
+// operations: the pick as the count of CDF entries at or below u among the first n − 1
+// (wp_cdf_pick's index for a non-decreasing CDF: the first k with u < cdf[k], else n − 1),
+// each field a select among the lights' values. The same data in every lane, without eight
+// scalar searches and gathers (the built-in box and Bitterli's have two light triangles).
+WP_FN LightLanes8 wp_light_lanes_few8(WP_GLOBAL const float* light_cdf, WP_GLOBAL const int* light_prims,
+                                      WP_GLOBAL const float* light_pdf_area,
+                                      WP_GLOBAL const float* light_clearance, int n,
+                                      WP_GLOBAL const Triangle* tris, WP_GLOBAL const float4* tri_frames,
+                                      WP_GLOBAL const int* material_ids,
+                                      WP_GLOBAL const MaterialData* materials, float8 u, int8 sampled) {
+    int8 li = (int8)(0);
+    for (int k = 0; k + 1 < n; ++k) li -= u >= light_cdf[k];  // a true compare is -1
+    li = select((int8)(0), li, sampled);
+    float8 f[18];
+    for (int k = 0; k < n; ++k) {
+        const int lp = light_prims[k];
+        const Triangle lt = tris[lp];
+        const float4 lf = tri_frames[lp];
+        const float4 le = materials[material_ids[lp]].emission;
+#if WP_HAVE_LIGHT_CLEARANCE
+        const float cl = light_clearance[lp];
+#else
+        const float cl = 0.0f;
+        (void)light_clearance;
+#endif
+        const float v[18] = {lt.v0.x, lt.v0.y, lt.v0.z, lt.v1.x, lt.v1.y, lt.v1.z, lt.v2.x, lt.v2.y, lt.v2.z,
+                             lf.x,    lf.y,    lf.z,    lf.w,    light_pdf_area[lp], le.x, le.y, le.z, cl};
+        const int8 m = li == k;
+#pragma unroll
+        for (int j = 0; j < 18; ++j) f[j] = k == 0 ? (float8)(v[j]) : select(f[j], (float8)(v[j]), m);
+    }
+    LightLanes8 L;
+    L.v0 = l3(f[0], f[1], f[2]);
+    L.v1 = l3(f[3], f[4], f[5]);
+    L.v2 = l3(f[6], f[7], f[8]);
+    L.n = l3(f[9], f[10], f[11]);
+    L.offset = f[12];
+    L.pdf_area = f[13];
+    L.le = l3(f[14], f[15], f[16]);
+    L.clearance = f[17];
+    return L;
+}
+#endif
+#endif
+
 #if WP_LANES_SCALAR_KINDS
 // The lanes of mask m, one at a time, through the scalar BSDF of their material (bsdf.h),
 // each with exactly the scalar kernel's arguments: f cos and the density of wi into the
@@ -990,58 +1115,25 @@ WP_KERNEL void shade_surface8(WP_SHADE_SURFACE_PARAMS) {
             if (light_count > 0 && wp_lane_bits(sampled)) {
                 float8 ulx, uly, ulz, ulw;
                 wp_rng4_lanes(seed, pixel, sample, (uint)bounce, WP_RNG_LIGHT, &ulx, &uly, &ulz, &ulw);
-                float ulz_a[8];
-                vstore8(ulz, 0, ulz_a);
-                float l0x[8], l0y[8], l0z[8], l1x[8], l1y[8], l1z[8], l2x[8], l2y[8], l2z[8];
-                float lnx[8], lny[8], lnz[8], loff[8], lpa[8], lex[8], ley[8], lez[8];
-#if WP_HAVE_LIGHT_CLEARANCE
-                float lcl[8];
-#endif
-                // Lanes without a light sample (Dirac kinds, dead paths) read light 0: no
-                // search of the table, no miss on a random light triangle.
-                const int sampled_bits = wp_lane_bits(sampled);
-#if WP_HAVE_LIGHT_PAIRS
-                float orx[8], ory[8], orz[8];
-                vstore8(org.x, 0, orx), vstore8(org.y, 0, ory), vstore8(org.z, 0, orz);
-#endif
-#pragma unroll
-                for (int l = 0; l < 8; ++l) {
-                    int li = (sampled_bits >> l) & 1 ? wp_light_pick(light_cdf, light_count, light_guide, light_guide_size, ulz_a[l]) : 0;
-                    int lp = light_prims[li];
-#if WP_HAVE_LIGHT_PAIRS
-                    // shade_surface's pair choice and density, from the same origin.
-                    if ((sampled_bits >> l) & 1)
-                        lp = wp_light_pair_choose(light_pdf_area, light_pairs, tris, tri_frames, lp,
-                                                  make_float3(orx[l], ory[l], orz[l]), &lpa[l]);
-                    else
-                        lpa[l] = light_pdf_area[lp];
+                // Lanes without a light sample (Dirac kinds, dead paths) take light 0.
+#if !WP_HAVE_LIGHT_PAIRS
+                const LightLanes8 L = light_count <= WP_FEW_LIGHTS
+                                          ? wp_light_lanes_few8(light_cdf, light_prims, light_pdf_area,
+                                                                light_clearance, light_count, tris, tri_frames,
+                                                                material_ids, materials, ulz, sampled)
+                                          : wp_light_lanes_gather8(WP_LIGHT_LANES_ARGS, ulz, sampled, org);
 #else
-                    lpa[l] = light_pdf_area[lp];
+                const LightLanes8 L = wp_light_lanes_gather8(WP_LIGHT_LANES_ARGS, ulz, sampled, org);
 #endif
-                    Triangle lt = tris[lp];
-                    float4 lf = tri_frames[lp];
-                    float4 le = materials[material_ids[lp]].emission;
-                    l0x[l] = lt.v0.x, l0y[l] = lt.v0.y, l0z[l] = lt.v0.z;
-                    l1x[l] = lt.v1.x, l1y[l] = lt.v1.y, l1z[l] = lt.v1.z;
-                    l2x[l] = lt.v2.x, l2y[l] = lt.v2.y, l2z[l] = lt.v2.z;
-                    lnx[l] = lf.x, lny[l] = lf.y, lnz[l] = lf.z, loff[l] = lf.w;
-                    lex[l] = le.x, ley[l] = le.y, lez[l] = le.z;
-#if WP_HAVE_LIGHT_CLEARANCE
-                    lcl[l] = light_clearance[lp];
-#endif
-                }
-                const L3 ln = l3(vload8(0, lnx), vload8(0, lny), vload8(0, lnz));
+                const L3 ln = L.n;
                 // wp_sample_triangle_barycentric
                 const float8 s = sqrt(ulx);
                 L3 yerr;
-                const L3 y = wp_hit_point8(l3(vload8(0, l0x), vload8(0, l0y), vload8(0, l0z)),
-                                           l3(vload8(0, l1x), vload8(0, l1y), vload8(0, l1z)),
-                                           l3(vload8(0, l2x), vload8(0, l2y), vload8(0, l2z)),
-                                           uly * s, 1.0f - s, &yerr);
+                const L3 y = wp_hit_point8(L.v0, L.v1, L.v2, uly * s, 1.0f - s, &yerr);
                 const L3 to = l3_sub(y, p);
                 const float8 dist2 = l3_dot(to, to);
                 const L3 wi = l3_scale(to, 1.0f / sqrt(dist2));
-                const float8 p_light = wp_light_pdf_solid_angle8(vload8(0, lpa) * (1.0f - p_env), dist2, -l3_dot(wi, ln));
+                const float8 p_light = wp_light_pdf_solid_angle8(L.pdf_area * (1.0f - p_env), dist2, -l3_dot(wi, ln));
                 // wp_bsdf_eval: diffuse, albedo cos / π above the surface; glossy (lanes.h).
                 const float8 cos_i = l3_dot(wi, ns);
                 const int8 above = cos_i > 0.0f;
@@ -1087,7 +1179,7 @@ WP_KERNEL void shade_surface8(WP_SHADE_SURFACE_PARAMS) {
 #else
                     const float8 w = 1.0f;
 #endif
-                    const L3 le = l3(vload8(0, lex), vload8(0, ley), vload8(0, lez));
+                    const L3 le = L.le;
                     const L3 c = l3_scale(l3_mul(l3_mul(beta, fcos), le), w / p_light);
                     const int8 c_finite = l3_all_finite(c);
                     wp_count_nonfinite8(lit & ~c_finite, counters);
@@ -1097,10 +1189,10 @@ WP_KERNEL void shade_surface8(WP_SHADE_SURFACE_PARAMS) {
                     const L3 so = l3_select(org_below, org, l3_dot(wi, ng) > 0.0f);
                     const L3 sd = l3_sub(y, so);
 #if WP_HAVE_LIGHT_CLEARANCE
-                    const float8 tmax = wp_shadow_end_clear8(wp_shadow_tmax8(sd, yerr, ln, vload8(0, loff)), sd, y,
-                                                             yerr, ln, vload8(0, lcl));
+                    const float8 tmax = wp_shadow_end_clear8(wp_shadow_tmax8(sd, yerr, ln, L.offset), sd, y,
+                                                             yerr, ln, L.clearance);
 #else
-                    const float8 tmax = wp_shadow_tmax8(sd, yerr, ln, vload8(0, loff));
+                    const float8 tmax = wp_shadow_tmax8(sd, yerr, ln, L.offset);
 #endif
                     shadow_bits |= (uint)wp_lane_bits(shadow) << g;
                     vstore8(so.x, 0, sox + g), vstore8(so.y, 0, soy + g), vstore8(so.z, 0, soz + g);

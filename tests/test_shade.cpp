@@ -794,13 +794,40 @@ void check_lanes_match_scalar(const ShadeCase& base, const std::vector<MaterialK
         }
         return at_bounce1;
     };
+    const bool has_pairs = std::any_of(base.light_pairs.begin(), base.light_pairs.end(),
+                                       [](const LightPair& q) { return q.partner >= 0; });
     for (std::size_t k = 0; k < estimators.size(); ++k)
         for (bool normals : {false, true}) {
             const ShadeOut unpaired = check(estimators[k], normals, false);
             // Light pairs with the default estimator (MIS): they move light samples and weigh
             // emission by the paired density, so the outputs change.
-            if (k == 0) CHECK(output_differences(unpaired, check(estimators[k], normals, true), n) > 0);
+            if (k != 0) continue;
+            const ShadeOut paired = check(estimators[k], normals, true);
+            if (has_pairs) CHECK(output_differences(unpaired, paired, n) > 0);
         }
+}
+
+// `base` with its light table cut to its first n lights (the CDF, the densities and the
+// pairs' shares scaled to the remaining power; the others emit but are never sampled, and
+// pair with nothing, as the host's tables pair lights only).
+ShadeCase with_lights(ShadeCase base, int n) {
+    const float kept = base.light_cdf[std::size_t(n) - 1];
+    base.light_cdf.resize(std::size_t(n));
+    for (float& c : base.light_cdf) c /= kept;
+    base.light_cdf.back() = 1.0f;
+    std::vector<bool> in_table(base.tris.size(), false);
+    for (int k = 0; k < n; ++k) in_table[std::size_t(base.light_prims[std::size_t(k)])] = true;
+    for (std::size_t t = 0; t < base.tris.size(); ++t) {
+        if (!in_table[t]) base.light_pdf_area[t] = 0.0f;
+        base.light_pdf_area[t] /= kept;
+        LightPair& q = base.light_pairs[t];
+        if (!in_table[t] || (q.partner >= 0 && !in_table[std::size_t(q.partner)]))
+            q = LightPair{-1, 0.0f};
+        else
+            q.pdf /= kept;
+    }
+    base.light_prims.resize(std::size_t(n));
+    return base;
 }
 
 }  // namespace
@@ -819,6 +846,14 @@ TEST_CASE("shade: eight paths per work-item give shade_surface's bits", "[kernel
         return m;
     });
     check_lanes_match_scalar(base, {MaterialKind::Diffuse, MaterialKind::Mirror, MaterialKind::Glossy});
+    // Tables of at most WP_FEW_LIGHTS (4) lights pick and load the lanes' lights by vector
+    // compares and selects (shade.cl, wp_light_lanes_few8) where there are no light pairs:
+    // the same bits with three lights, two and one.
+    for (int lights : {3, 2, 1}) {
+        INFO(lights << " lights in the table");
+        check_lanes_match_scalar(with_lights(base, lights),
+                                 {MaterialKind::Diffuse, MaterialKind::Mirror, MaterialKind::Glossy});
+    }
     // The lane kernel is chosen wherever it models the configuration: every material kind,
     // and none of the appearance features it has no lane code for, no NaN injection.
     render::KernelConfig k;
