@@ -697,10 +697,10 @@ typedef struct LightLanes8 {
     light_cdf, light_guide, light_guide_size, light_prims, light_pdf_area, light_pairs, light_clearance, \
         light_count, tris, tri_frames, material_ids, materials
 
-// The lanes' lights, one lane at a time: the light table's pick for u (lanes.h's
-// wp_light_pick; light 0 in the lanes outside `sampled`: no search, no miss on a random
-// light), with light pairs the pair's choice from origin org (shade_surface's), and the
-// light triangle's data.
+// The lanes' lights, lane by lane: the light table's pick for u (lights.h's wp_light_pick;
+// light 0 in the lanes outside `sampled`: no search, no miss on a random light), with light
+// pairs the pair's choice from origin org (shade_surface's, wp_light_pair_choose's tests
+// and answer), and the light triangle's data.
 WP_FN LightLanes8 wp_light_lanes_gather8(WP_GLOBAL const float* light_cdf, WP_GLOBAL const int* light_guide,
                                          int light_guide_size, WP_GLOBAL const int* light_prims,
                                          WP_GLOBAL const float* light_pdf_area,
@@ -721,17 +721,41 @@ WP_FN LightLanes8 wp_light_lanes_gather8(WP_GLOBAL const float* light_cdf, WP_GL
 #else
     (void)light_pairs, (void)org;
 #endif
+    // In phases over the eight lanes, each phase's loads independent of one another, so that
+    // the lanes' cache misses overlap (one lane's chain of dependent loads after another's
+    // cost veach-mis' shade 8 %, measured): the picks, with pairs the pairs' entries, both
+    // facing tests and the choice, then the chosen triangles' data.
+    int lp_a[8];
 #pragma unroll
     for (int l = 0; l < 8; ++l) {
-        int li = (sampled_bits >> l) & 1 ? wp_light_pick(light_cdf, light_count, light_guide, light_guide_size, ua[l]) : 0;
-        int lp = light_prims[li];
+        const int li = (sampled_bits >> l) & 1 ? wp_light_pick(light_cdf, light_count, light_guide, light_guide_size, ua[l]) : 0;
+        lp_a[l] = light_prims[li];
+    }
 #if WP_HAVE_LIGHT_PAIRS
-        if ((sampled_bits >> l) & 1)
-            lp = wp_light_pair_choose(light_pdf_area, light_pairs, tris, tri_frames, lp,
-                                      make_float3(orx[l], ory[l], orz[l]), &lpa[l]);
-        else
-            lpa[l] = light_pdf_area[lp];
-#else
+    {
+        LightPair pt[8];
+        int q_away[8], t_away[8];
+#pragma unroll
+        for (int l = 0; l < 8; ++l) pt[l] = light_pairs[lp_a[l]];
+#pragma unroll
+        for (int l = 0; l < 8; ++l) {
+            const float3 x = make_float3(orx[l], ory[l], orz[l]);
+            q_away[l] = wp_light_faces_away(tris, tri_frames, pt[l].partner >= 0 ? pt[l].partner : lp_a[l], x);
+            t_away[l] = wp_light_faces_away(tris, tri_frames, lp_a[l], x);
+        }
+#pragma unroll
+        for (int l = 0; l < 8; ++l) {
+            if ((sampled_bits >> l) & 1)
+                lp_a[l] = wp_light_pair_decide(light_pdf_area, light_pairs, lp_a[l], pt[l], q_away[l], t_away[l], &lpa[l]);
+            else
+                lpa[l] = light_pdf_area[lp_a[l]];
+        }
+    }
+#endif
+#pragma unroll
+    for (int l = 0; l < 8; ++l) {
+        const int lp = lp_a[l];
+#if !WP_HAVE_LIGHT_PAIRS
         lpa[l] = light_pdf_area[lp];
 #endif
         Triangle lt = tris[lp];

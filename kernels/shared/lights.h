@@ -70,6 +70,23 @@ WP_FN float wp_light_pdf_area(WP_GLOBAL const float* pdf_area, WP_GLOBAL const L
 }
 
 #if WP_HAVE_LIGHT_PAIRS
+// wp_light_pair_choose's answer from its facing tests: pt = pairs[t]; q_away, whether t's
+// partner faces away from x; t_away, whether t does (read only where q_away is 0).
+WP_FN int wp_light_pair_decide(WP_GLOBAL const float* pdf_area, WP_GLOBAL const LightPair* pairs, int t,
+                               LightPair pt, int q_away, int t_away, float* pdf) {
+    if (pt.partner < 0) {
+        *pdf = pdf_area[t];
+        return t;
+    }
+    const int q = pt.partner;
+    if (!q_away && t_away) {
+        *pdf = pdf_area[q] + pairs[q].pdf;  // t, q's partner, faces away
+        return q;
+    }
+    *pdf = q_away ? pdf_area[t] + pt.pdf : pdf_area[t];
+    return t;
+}
+
 // The light triangle whose point light sampling from x uses, given the table's pick t: its
 // partner, at the same barycentric coordinates, when t faces away from x and the partner
 // does not; else t itself. *pdf: wp_light_pdf_area of that triangle, from the same two
@@ -80,18 +97,9 @@ WP_FN int wp_light_pair_choose(WP_GLOBAL const float* pdf_area, WP_GLOBAL const 
                                WP_GLOBAL const Triangle* tris, WP_GLOBAL const float4* tri_frames, int t,
                                float3 x, float* pdf) {
     const LightPair pt = pairs[t];
-    if (pt.partner < 0) {
-        *pdf = pdf_area[t];
-        return t;
-    }
-    const int q = pt.partner;
-    const int q_away = wp_light_faces_away(tris, tri_frames, q, x);
-    if (!q_away && wp_light_faces_away(tris, tri_frames, t, x)) {
-        *pdf = pdf_area[q] + pairs[q].pdf;  // t, q's partner, faces away
-        return q;
-    }
-    *pdf = q_away ? pdf_area[t] + pt.pdf : pdf_area[t];
-    return t;
+    const int q_away = pt.partner >= 0 && wp_light_faces_away(tris, tri_frames, pt.partner, x);
+    const int t_away = pt.partner >= 0 && !q_away && wp_light_faces_away(tris, tri_frames, t, x);
+    return wp_light_pair_decide(pdf_area, pairs, t, pt, q_away, t_away, pdf);
 }
 #endif
 
