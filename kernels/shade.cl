@@ -643,7 +643,7 @@ WP_KERNEL void shade_triangle_frames(WP_GLOBAL const Triangle* tris, int count,
 // shade_surface8 — shade_surface eight paths at a time in vector lanes (shared/lanes.h
 // explains why: PoCL runs shade_surface one path at a time). Same arguments, same contract
 // and the same numbers per path; the host launches it with one work-item per
-// WP_SHADE_LANE_ENTRIES queue entries (types.h; work-item w: entries 32 w .. 32 w + 31) and
+// WP_SHADE_LANE_ENTRIES queue entries (types.h; work-item w: entries 64 w .. 64 w + 63) and
 // local size WP_SHADE_LANE_GROUP where KernelConfig::shade_lanes() says it models
 // the scene: the features and debug switches it has no lane code for are refused here at
 // compile time. Diffuse, mirror, glossy and rough-conductor lanes run lane code (lanes.h);
@@ -654,8 +654,8 @@ WP_KERNEL void shade_triangle_frames(WP_GLOBAL const Triangle* tris, int count,
 #if WP_HAVE_TEXTURES || WP_HAVE_NORMAL_MAPS || WP_HAVE_ENV || WP_HAVE_ANISOTROPY || WP_INJECT_NAN
 #error "shade_surface8 models shading normals and no other appearance feature (KernelConfig::shade_lanes)"
 #endif
-#if WP_SHADE_LANE_ENTRIES % 8 != 0 || WP_SHADE_LANE_ENTRIES > 32
-#error "WP_SHADE_LANE_ENTRIES (types.h) must be a multiple of 8 and at most 32 (the bits of push_bits)"
+#if WP_SHADE_LANE_ENTRIES % 8 != 0 || WP_SHADE_LANE_ENTRIES > 64
+#error "WP_SHADE_LANE_ENTRIES (types.h) must be a multiple of 8 and at most 64 (the bits of push_bits)"
 #endif
 // Kinds without lane code: their lanes take the scalar BSDF (WP_LANES_SCALAR_KINDS).
 #define WP_LANES_SCALAR_KINDS                                                             \
@@ -920,7 +920,7 @@ WP_KERNEL void shade_surface8(WP_SHADE_SURFACE_PARAMS) {
     float sdx[WP_SHADE_LANE_ENTRIES], sdy[WP_SHADE_LANE_ENTRIES], sdz[WP_SHADE_LANE_ENTRIES];
     float stm[WP_SHADE_LANE_ENTRIES];
     float scx[WP_SHADE_LANE_ENTRIES], scy[WP_SHADE_LANE_ENTRIES], scz[WP_SHADE_LANE_ENTRIES];
-    uint push_bits = 0, shadow_bits = 0;  // bit e: packed lane e pushes (WP_SHADE_LANE_ENTRIES <= 32)
+    ulong push_bits = 0, shadow_bits = 0;  // bit e: packed lane e pushes (WP_SHADE_LANE_ENTRIES <= 64)
 
     // The work-item's queue entries one at a time: the entry guard and the escaped rays
     // (shade_surface's own code: a path whose throughput is not finite ends, counted; a miss
@@ -1218,7 +1218,7 @@ WP_KERNEL void shade_surface8(WP_SHADE_SURFACE_PARAMS) {
 #else
                     const float8 tmax = wp_shadow_tmax8(sd, yerr, ln, L.offset);
 #endif
-                    shadow_bits |= (uint)wp_lane_bits(shadow) << g;
+                    shadow_bits |= (ulong)(uint)wp_lane_bits(shadow) << g;
                     vstore8(so.x, 0, sox + g), vstore8(so.y, 0, soy + g), vstore8(so.z, 0, soz + g);
                     vstore8(sd.x, 0, sdx + g), vstore8(sd.y, 0, sdy + g), vstore8(sd.z, 0, sdz + g);
                     vstore8(tmax, 0, stm + g);
@@ -1310,7 +1310,7 @@ WP_KERNEL void shade_surface8(WP_SHADE_SURFACE_PARAMS) {
             // The continued path, from the origin on the geometric side it leaves; w: the
             // density of wo, 0 after a Dirac lobe (PathState).
             const L3 on = l3_select(org_below, org, l3_dot(wo, ng) > 0.0f);
-            push_bits |= (uint)wp_lane_bits(alive) << g;
+            push_bits |= (ulong)(uint)wp_lane_bits(alive) << g;
             vstore8(on.x, 0, nox + g), vstore8(on.y, 0, noy + g), vstore8(on.z, 0, noz + g);
             vstore8(wo.x, 0, ndx + g), vstore8(wo.y, 0, ndy + g), vstore8(wo.z, 0, ndz + g);
             vstore8(beta.x, 0, nbx + g), vstore8(beta.y, 0, nby + g), vstore8(beta.z, 0, nbz + g);
@@ -1322,8 +1322,8 @@ WP_KERNEL void shade_surface8(WP_SHADE_SURFACE_PARAMS) {
     // work-group barrier: PoCL would keep every lane's outputs in per-work-item context arrays
     // across it (the copies cost a quarter of this kernel's time, measured).
     if (push_bits == 0 && shadow_bits == 0) return;
-    int slot = push_bits ? wp_atomic_add(count_out, popcount(push_bits)) : 0;
-    int shadow_slot = shadow_bits ? wp_atomic_add(shadow_count, popcount(shadow_bits)) : 0;
+    int slot = push_bits ? wp_atomic_add(count_out, (int)popcount(push_bits)) : 0;
+    int shadow_slot = shadow_bits ? wp_atomic_add(shadow_count, (int)popcount(shadow_bits)) : 0;
 #if WP_SHADE_TRACES_SHADOWS
     // The shadow rays traced here, one after the other, with shadow_trace's any hit and its
     // update (shadow.cl): the same rays, the same occlusion and, as every emission this
@@ -1332,8 +1332,8 @@ WP_KERNEL void shade_surface8(WP_SHADE_SURFACE_PARAMS) {
     // round"): the 52 bytes a shadow ray takes in the queue, written here and read back by
     // the shadow stage, and that stage's launch per bounce.
     (void)shadow_slot;
-    for (uint rest = shadow_bits; rest != 0; rest &= rest - 1) {
-        const int l = wp_ctz32(rest);
+    for (ulong rest = shadow_bits; rest != 0; rest &= rest - 1) {
+        const int l = wp_ctz64(rest);
         Ray r;
         r.org = make_float4(sox[l], soy[l], soz[l], 0.0f);
         r.dir = make_float4(sdx[l], sdy[l], sdz[l], stm[l]);
@@ -1344,7 +1344,7 @@ WP_KERNEL void shade_surface8(WP_SHADE_SURFACE_PARAMS) {
     shadow_bits = 0;
 #endif
     for (int l = 0; l < WP_SHADE_LANE_ENTRIES; ++l) {
-        if (push_bits & (1u << l)) {
+        if (push_bits & (1ul << l)) {
             Ray r;
             r.org = make_float4(nox[l], noy[l], noz[l], 0.0f);
             r.dir = make_float4(ndx[l], ndy[l], ndz[l], FLT_MAX);
@@ -1353,7 +1353,7 @@ WP_KERNEL void shade_surface8(WP_SHADE_SURFACE_PARAMS) {
             wp_push_path(rays_out + slot, paths_out + slot, r, np);
             ++slot;
         }
-        if (shadow_bits & (1u << l)) {
+        if (shadow_bits & (1ul << l)) {
             Ray r;
             r.org = make_float4(sox[l], soy[l], soz[l], 0.0f);
             r.dir = make_float4(sdx[l], sdy[l], sdz[l], stm[l]);

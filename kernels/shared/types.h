@@ -23,10 +23,13 @@ WP_NAMESPACE_BEGIN
 // Queue entries per work-item of the lane shade kernel (shade.cl shade_surface8; the host
 // launches ceil(n / this) work-items): its surface hits are packed and shaded eight lanes at
 // a time, so more entries than lanes let an open scene's misses drop out of the lanes.
-#define WP_SHADE_LANE_ENTRIES 32
-// Its local size (it shares nothing within a group): 4 work-items, 128 queue entries, so the
+// 64 against 32 (a work-group of 128 entries either way; docs/performance.md, "Nineteenth
+// round"): shade 0.917 on Bitterli's box, 0.965 on the built-in box, 0.939 on veach-mis (half
+// the queue atomics and per-work-item set-ups).
+#define WP_SHADE_LANE_ENTRIES 64
+// Its local size (it shares nothing within a group): 2 work-items, 128 queue entries, so the
 // short queues of late bounces still spread over every core.
-#define WP_SHADE_LANE_GROUP 4
+#define WP_SHADE_LANE_GROUP 2
 
 // A ray: origin + [tmin, tmax) along an unnormalised direction. 32 bytes.
 typedef struct Ray {
