@@ -15,9 +15,10 @@
 // WP_HAVE_LENS (KernelConfig: the camera has a thin lens) compiles the lens sample (group
 // WP_RNG_LENS); without it, or with lens radius 0, the rays are the pinhole's bit for bit.
 // WP_GENERATE_LANES (KernelConfig::generate_lanes(): CPU devices; OpenCL only) makes each
-// work-item generate eight consecutive items, their jitter drawn in vector lanes
-// (rng_lanes.h, wp_rng2_lanes), and the host launch ceil(count / 8) work-items: the same
-// rays bit for bit.
+// work-item generate eight consecutive items, their jitter (rng_lanes.h, wp_rng2_lanes) and
+// pinhole directions computed in vector lanes, their pixels' (x, y) stepped from the first
+// one's (one division a work-item), and the host launch ceil(count / 8) work-items: the same
+// rays bit for bit (tests/test_generate.cpp).
 #include "shared/camera.h"
 #include "shared/film.h"
 #include "shared/rng.h"
@@ -76,20 +77,69 @@ WP_FN void wp_generate_item(CameraData camera, uint seed, int i, int p, uint sam
 }
 
 #if WP_GENERATE_LANES
-// The items i0 .. i0 + 7 (those below count) of pixels p[l] and samples sample[l]: their
-// jitter as eight lanes, the rest item by item. Lanes past count hold valid keys (their
-// numbers are drawn and dropped).
+// The items i0 .. i0 + 7 (those below count) of pixels p[l] = (x[l], y[l]) and samples
+// sample[l], as eight lanes: the jitter (wp_rng2_lanes), the pinhole direction and its finite
+// check in vectors, each the scalar item's operations in its order (wp_camera_direction:
+// (forward + right sx) + up sy, normalize as v * (1 / sqrt(dot(v, v))), which is PoCL's
+// normalize bit for bit: lanes.h), then the stores item by item. Lanes past count hold valid
+// keys (their numbers are drawn and dropped). A thin lens and NaN injection take the item
+// path (wp_generate_item) per lane.
 WP_FN void wp_generate_items8(CameraData camera, uint seed, int i0, int count, const int* p,
-                              const uint* sample, WP_GLOBAL Ray* rays, WP_GLOBAL PathState* paths,
-                              WP_GLOBAL float4* radiance, WP_GLOBAL int* counters) {
+                              const int* x, const int* y, const uint* sample, WP_GLOBAL Ray* rays,
+                              WP_GLOBAL PathState* paths, WP_GLOBAL float4* radiance,
+                              WP_GLOBAL int* counters) {
     float8 ux, uy;
     wp_rng2_lanes(seed, vload8(0, (const uint*)p), vload8(0, sample), 0u, WP_RNG_CAMERA, &ux, &uy);
-    float uxa[8], uya[8];
-    vstore8(ux, 0, uxa), vstore8(uy, 0, uya);
     const int m = min(8, count - i0);
-    for (int l = 0; l < m; ++l)
-        wp_generate_item(camera, seed, i0 + l, p[l], sample[l], uxa[l], uya[l], rays, paths, radiance,
-                         counters);
+#if WP_HAVE_LENS || WP_INJECT_NAN
+    if (WP_INJECT_NAN || camera.lens.x > 0.0f) {
+        float uxa[8], uya[8];
+        vstore8(ux, 0, uxa), vstore8(uy, 0, uya);
+        for (int l = 0; l < m; ++l)
+            wp_generate_item(camera, seed, i0 + l, p[l], sample[l], uxa[l], uya[l], rays, paths, radiance,
+                             counters);
+        return;
+    }
+#endif
+    // wp_camera_image_point, then normalize.
+    const float8 jx = camera.jitter ? ux : (float8)(0.5f), jy = camera.jitter ? uy : (float8)(0.5f);
+    const float8 px = convert_float8(vload8(0, x)) + jx, py = convert_float8(vload8(0, y)) + jy;
+    const float8 sx = 2.0f * px / (float)camera.width - 1.0f;
+    const float8 sy = 1.0f - 2.0f * py / (float)camera.height;
+    const float8 ix = camera.forward.x + camera.right.x * sx + camera.up.x * sy;
+    const float8 iy = camera.forward.y + camera.right.y * sx + camera.up.y * sy;
+    const float8 iz = camera.forward.z + camera.right.z * sx + camera.up.z * sy;
+    const float8 inv = 1.0f / sqrt(ix * ix + iy * iy + iz * iz);
+    float8 dx = ix * inv, dy = iy * inv, dz = iz * inv;
+    // A NaN/Inf direction (degenerate camera) becomes a ray that misses everything.
+    const int8 finite = isfinite(dx) & isfinite(dy) & isfinite(dz);
+    dx = select((float8)(0.0f), dx, finite);
+    dy = select((float8)(0.0f), dy, finite);
+    dz = select((float8)(1.0f), dz, finite);
+    const float8 tmax = select((float8)(0.0f), (float8)(FLT_MAX), finite);
+    float dxa[8], dya[8], dza[8], tma[8];
+    int fa[8];
+    vstore8(dx, 0, dxa), vstore8(dy, 0, dya), vstore8(dz, 0, dza), vstore8(tmax, 0, tma);
+    vstore8(finite, 0, fa);
+    const float4 org = make_float4(camera.origin.x, camera.origin.y, camera.origin.z, 0.0f);
+    int nonfinite = 0;
+    for (int l = 0; l < m; ++l) {
+        const int i = i0 + l;
+        nonfinite += fa[l] == 0;
+        Ray r;
+        r.org = org;
+        r.dir = make_float4(dxa[l], dya[l], dza[l], tma[l]);
+        rays[i] = r;
+        PathState ps;
+        ps.throughput = make_float4(1.0f, 1.0f, 1.0f, 0.0f);
+        ps.pixel = p[l];
+        ps.sample = sample[l];
+        ps.item = i;
+        ps.cone = 0.0f;
+        paths[i] = ps;
+        radiance[i] = make_float4(0.0f, 0.0f, 0.0f, 0.0f);
+    }
+    if (nonfinite > 0) wp_atomic_add(&counters[WP_COUNTER_GENERATE_NONFINITE], nonfinite);
 }
 #endif
 
@@ -106,14 +156,18 @@ WP_KERNEL void generate_camera(CameraData camera, uint seed, int first_pixel, ui
     int s = first_pixel + i0;
     int pass = s / n;
     int pl = s - pass * n;
-    int p[8];
+    int yl = pl / camera.width, xl = pl - yl * camera.width;
+    int p[8], x[8], y[8];
     uint sample[8];
     for (int l = 0; l < 8; ++l) {
-        p[l] = pl;
+        p[l] = pl, x[l] = xl, y[l] = yl;
         sample[l] = first_sample + (uint)pass;
-        if (++pl == n) pl = 0, ++pass;
+        if (++pl == n)
+            pl = 0, xl = 0, yl = 0, ++pass;
+        else if (++xl == camera.width)
+            xl = 0, ++yl;
     }
-    wp_generate_items8(camera, seed, i0, count, p, sample, rays, paths, radiance, counters);
+    wp_generate_items8(camera, seed, i0, count, p, x, y, sample, rays, paths, radiance, counters);
 #else
     int i = wp_global_id();
     if (i >= count) return;
@@ -147,14 +201,15 @@ WP_KERNEL void generate_camera_active(CameraData camera, uint seed, WP_GLOBAL co
     int s = first + i0;
     int pass = s / active_count;
     int l0 = s - pass * active_count;
-    int p[8];
+    int p[8], x[8], y[8];
     uint sample[8];
     for (int l = 0; l < 8; ++l) {
         p[l] = active[l0];
+        y[l] = p[l] / camera.width, x[l] = p[l] - y[l] * camera.width;
         sample[l] = first_sample + (uint)pass;
         if (++l0 == active_count) l0 = 0, ++pass;
     }
-    wp_generate_items8(camera, seed, i0, count, p, sample, rays, paths, radiance, counters);
+    wp_generate_items8(camera, seed, i0, count, p, x, y, sample, rays, paths, radiance, counters);
 #else
     int i = wp_global_id();
     if (i >= count) return;

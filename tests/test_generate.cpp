@@ -27,24 +27,28 @@ struct GenerateOut {
     std::vector<int> counters;
 };
 
-// The stage with one item per work-item (GPUs, the CUDA port) or eight (lanes: CPUs).
-render::GenerateStage& generate_stage(bool lanes) {
-    auto make = [](bool l) {
+// The stage with one item per work-item (GPUs, the CUDA port) or eight (lanes: CPUs), with or
+// without the thin-lens program (WP_HAVE_LENS).
+render::GenerateStage& generate_stage(bool lanes, bool lens = false) {
+    auto make = [](bool l, bool with_lens) {
         render::KernelConfig c;
         c.generate_lanes = l;
+        c.lens = with_lens;
         return render::GenerateStage(test::device(), c);
     };
-    static render::GenerateStage scalar = make(false), eight = make(true);
-    return lanes ? eight : scalar;
+    static render::GenerateStage scalar = make(false, false), eight = make(true, false);
+    static render::GenerateStage scalar_lens = make(false, true), eight_lens = make(true, true);
+    return lens ? (lanes ? eight_lens : scalar_lens) : (lanes ? eight : scalar);
 }
 
 // Runs the generate stage through its launcher: a wave of `count` samples from
 // (first_pixel, sample); count = 0 means one whole pass. With `active`: generate_camera_active
 // over that pixel list from entry first_pixel on.
 GenerateOut run_generate(const CameraData& cam, cl_uint seed, cl_uint sample, int first_pixel = 0,
-                         int count = 0, bool lanes = false, const std::vector<int>* active = nullptr) {
+                         int count = 0, bool lanes = false, const std::vector<int>* active = nullptr,
+                         bool lens_program = false) {
     auto& dev = test::device();
-    render::GenerateStage& stage = generate_stage(lanes);
+    render::GenerateStage& stage = generate_stage(lanes, lens_program);
     const int n = cam.width * cam.height;
     if (count == 0) count = n;
     const auto items = static_cast<std::size_t>(count);
@@ -227,6 +231,26 @@ TEST_CASE("generate: eight items per work-item give each item the ray and path o
             REQUIRE(std::memcmp(&a.paths[i], &b.paths[i], sizeof(PathState)) == 0);
         }
     }
+    // The lens program: a thin lens (the lanes take the item path) and a lens of radius 0 (the
+    // lanes' pinhole), each against the scalar kernel; without jitter too (pixel centres).
+    for (float radius : {0.0f, 0.05f})
+        for (bool jitter : {true, false}) {
+            INFO("lens radius " << radius << " jitter " << jitter);
+            Camera lc = c;
+            lc.lens_radius = radius;
+            lc.focus_distance = 2.5f;
+            CameraData cam = upload_camera(lc, 16, 12, jitter);
+            const int count = 2 * 16 * 12 + 5;
+            GenerateOut a = run_generate(cam, 21, 3, 7, count, false, nullptr, true);
+            GenerateOut b = run_generate(cam, 21, 3, 7, count, true, nullptr, true);
+            GenerateOut pinhole = run_generate(cam, 21, 3, 7, count, true);
+            for (int i = 0; i < count; ++i) {
+                REQUIRE(std::memcmp(&a.rays[i], &b.rays[i], sizeof(Ray)) == 0);
+                REQUIRE(std::memcmp(&a.paths[i], &b.paths[i], sizeof(PathState)) == 0);
+                // Radius 0 is the pinhole bit for bit; a lens moves the origins.
+                REQUIRE((std::memcmp(&b.rays[i], &pinhole.rays[i], sizeof(Ray)) == 0) == (radius == 0.0f));
+            }
+        }
     // generate_camera_active: item i is list entry (first + i) mod size of pass (first + i) /
     // size, with the ray of a whole pass at that pixel and sample.
     CameraData cam = upload_camera(c, 16, 12, /*jitter=*/true);
