@@ -312,10 +312,23 @@ TEST_CASE("render: shade streams its queues only where the pool outgrows the dev
     ocl::DeviceInfo unknown = cpu;
     unknown.cache_bytes = 0;  // no cache reported: nothing to outgrow
     CHECK_FALSE(render::stream_queues(unknown, std::uint64_t(1) << 32));
+    // A virtual machine's two cores reporting their host's 480 MiB: they count on 2 x 12 MiB.
+    ocl::DeviceInfo vm = cpu;
+    vm.compute_units = 2;
+    vm.cache_bytes = std::uint64_t(480) << 20;
+    CHECK(render::usable_cache_bytes(vm) == (std::uint64_t(24) << 20));
+    CHECK(render::stream_queues(vm, (std::uint64_t(24) << 20) + 1));
+    CHECK_FALSE(render::stream_queues(vm, std::uint64_t(24) << 20));
+    // Sixteen cores under 32 MiB: the report is the smaller.
+    ocl::DeviceInfo desktop = cpu;
+    desktop.compute_units = 16;
+    CHECK(render::usable_cache_bytes(desktop) == (std::uint64_t(32) << 20));
+    CHECK(render::stream_queues(desktop, (32u << 20) + 1));
+    CHECK_FALSE(render::stream_queues(desktop, 32u << 20));
 
     // The renderer applies it to the pool it allocates: a small pool, and the automatic
-    // limit of 2^20 paths (212 MiB: above the 8-32 MiB of L3 of some CI machines, below
-    // another VM's reported 480 MiB, so the expected answer depends on the device).
+    // limit of 2^20 paths (160-212 MiB: above the 8-32 MiB of L3 of some CI machines and above
+    // the 24 MiB that two cores count on of another VM's reported 480 MiB).
     auto& dev = test::device();
     const Scene scene = make_cornell_box(200);
     render::RenderSettings s;
@@ -329,5 +342,8 @@ TEST_CASE("render: shade streams its queues only where the pool outgrows the dev
         CHECK(w.memory().pool_paths == pool);
         CHECK(w.config().stream_stores == render::stream_queues(dev.info, queue_bytes));
         if (pool == 1024) CHECK_FALSE(w.config().stream_stores);  // far below any cache
+        if (pool == render::PathPool::kDefaultCapacity && dev.info.type == "CPU" && dev.info.cache_bytes > 0 &&
+            dev.info.compute_units <= 8)
+            CHECK(w.config().stream_stores);  // at most 96 MiB counted on
     }
 }

@@ -31,8 +31,13 @@ void validate(const RenderSettings& s) {
         fail("replicates {} must be a power of two in 1..{}", s.replicates, limits::kMaxReplicates);
 }
 
+std::uint64_t usable_cache_bytes(const ocl::DeviceInfo& device) {
+    if (device.compute_units == 0) return device.cache_bytes;
+    return std::min<std::uint64_t>(device.cache_bytes, std::uint64_t(device.compute_units) * kCachePerComputeUnit);
+}
+
 bool stream_queues(const ocl::DeviceInfo& device, std::uint64_t queue_bytes) {
-    return device.type == "CPU" && device.cache_bytes > 0 && queue_bytes > device.cache_bytes;
+    return device.type == "CPU" && device.cache_bytes > 0 && queue_bytes > usable_cache_bytes(device);
 }
 
 int next_error_check(int passes, int min_spp, int replicates) {

@@ -130,9 +130,17 @@ int next_error_check(int passes, int min_spp, int replicates = 1);
 // Throws wp::Error naming the setting when a value is outside limits.h.
 void validate(const RenderSettings& s);
 
+// The most last-level cache one compute unit (core) of a CPU device is counted on: 12 MiB,
+// the largest share per core of x86 parts (96 MiB over the 8 cores of a stacked-cache die).
+// A virtual machine reports its host's whole last-level cache (480 MiB on the 2-core Xeon
+// VMs of 2026-11), which its cores share with every other guest of the host.
+inline constexpr std::uint64_t kCachePerComputeUnit = std::uint64_t(12) << 20;
+// The cache a device's queues may stay in: the cache it reports, at most kCachePerComputeUnit
+// per compute unit (the report alone where the unit count is unknown).
+std::uint64_t usable_cache_bytes(const ocl::DeviceInfo& device);
 // Whether shade pushes its queues with non-temporal stores (KernelConfig::stream_stores): on
-// a CPU device, where the pool's queue_bytes exceed the cache it reports (the next stage
-// reads them from memory anyway). A GPU, or a device that reports no cache, never streams.
+// a CPU device, where the pool's queue_bytes exceed usable_cache_bytes (the next stage reads
+// them from memory anyway). A GPU, or a device that reports no cache, never streams.
 bool stream_queues(const ocl::DeviceInfo& device, std::uint64_t queue_bytes);
 
 class Wavefront {
