@@ -21,6 +21,7 @@
 // rays bit for bit (tests/test_generate.cpp).
 #include "shared/camera.h"
 #include "shared/film.h"
+#include "shared/queue_store.h"
 #include "shared/rng.h"
 
 #ifndef WP_HAVE_LENS
@@ -32,6 +33,18 @@
 #if WP_GENERATE_LANES
 #include "shared/rng_lanes.h"
 #endif
+
+// The path state of a camera ray: unit throughput, no BSDF density yet, its pixel, sample
+// and item (its radiance slot), a cone of width 0 (a pinhole).
+WP_FN PathState wp_fresh_path(int p, uint sample, int i) {
+    PathState ps;
+    ps.throughput = make_float4(1.0f, 1.0f, 1.0f, 0.0f);
+    ps.pixel = p;
+    ps.sample = sample;
+    ps.item = i;
+    ps.cone = 0.0f;
+    return ps;
+}
 
 // The camera ray and fresh path of item i: sample `sample` of pixel p, (ux, uy) the first
 // two numbers of wp_rng4(seed, p, sample, 0, WP_RNG_CAMERA).
@@ -65,15 +78,8 @@ WP_FN void wp_generate_item(CameraData camera, uint seed, int i, int p, uint sam
     Ray r;
     r.org = make_float4(org.x, org.y, org.z, 0.0f);
     r.dir = make_float4(d.x, d.y, d.z, tmax);
-    rays[i] = r;
-    PathState ps;
-    ps.throughput = make_float4(1.0f, 1.0f, 1.0f, 0.0f);
-    ps.pixel = p;
-    ps.sample = sample;
-    ps.item = i;
-    ps.cone = 0.0f;
-    paths[i] = ps;
-    radiance[i] = make_float4(0.0f, 0.0f, 0.0f, 0.0f);
+    wp_store_path(rays + i, paths + i, r, wp_fresh_path(p, sample, i));
+    WP_STORE_STREAM(&radiance[i], make_float4(0.0f, 0.0f, 0.0f, 0.0f));
 }
 
 #if WP_GENERATE_LANES
@@ -129,15 +135,8 @@ WP_FN void wp_generate_items8(CameraData camera, uint seed, int i0, int count, c
         Ray r;
         r.org = org;
         r.dir = make_float4(dxa[l], dya[l], dza[l], tma[l]);
-        rays[i] = r;
-        PathState ps;
-        ps.throughput = make_float4(1.0f, 1.0f, 1.0f, 0.0f);
-        ps.pixel = p[l];
-        ps.sample = sample[l];
-        ps.item = i;
-        ps.cone = 0.0f;
-        paths[i] = ps;
-        radiance[i] = make_float4(0.0f, 0.0f, 0.0f, 0.0f);
+        wp_store_path(rays + i, paths + i, r, wp_fresh_path(p[l], sample[l], i));
+        WP_STORE_STREAM(&radiance[i], make_float4(0.0f, 0.0f, 0.0f, 0.0f));
     }
     if (nonfinite > 0) wp_atomic_add(&counters[WP_COUNTER_GENERATE_NONFINITE], nonfinite);
 }

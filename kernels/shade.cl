@@ -49,6 +49,7 @@
 #include "shared/film.h"
 #include "shared/lights.h"
 #include "shared/offset.h"
+#include "shared/queue_store.h"
 #include "shared/rng.h"
 #include "shared/shading.h"
 #include "shared/texture.h"
@@ -492,20 +493,9 @@ WP_FN int wp_shade_path(Ray ray, PathState path, Hit hit, WP_GLOBAL const Triang
 }
 
 // The pushes of shade_surface and shade_surface8: a ray and a path state into the next
-// bounce's queue, an entry into the shadow queue, each field one 16- or 4-byte store
-// (WP_STORE_STREAM: non-temporal where the kernel is built with WP_STREAM_STORES).
-WP_FN void wp_push_path(WP_GLOBAL Ray* ray_q, WP_GLOBAL PathState* path_q, Ray r, PathState p) {
-    WP_STORE_STREAM(&ray_q->org, r.org);
-    WP_STORE_STREAM(&ray_q->dir, r.dir);
-    WP_STORE_STREAM(&path_q->throughput, p.throughput);
-#if WP_STREAM_STORES && defined(WP_OPENCL)
-    // pixel, sample, item, cone: 16 contiguous bytes (types.h; tests/test_layout.cpp)
-    WP_STORE_STREAM((WP_GLOBAL int4*)&path_q->pixel, (int4)(p.pixel, (int)p.sample, p.item, as_int(p.cone)));
-#else
-    path_q->pixel = p.pixel, path_q->sample = p.sample, path_q->item = p.item, path_q->cone = p.cone;
-#endif
-}
-
+// bounce's queue (wp_store_path, queue_store.h), and an entry into the shadow queue (below),
+// each field one 16- or 4-byte store (WP_STORE_STREAM: non-temporal where the kernel is
+// built with WP_STREAM_STORES).
 WP_FN void wp_push_shadow(WP_GLOBAL Ray* ray_q, WP_GLOBAL int* item_q, WP_GLOBAL float4* contrib_q, Ray r,
                           int item, float4 contrib) {
     WP_STORE_STREAM(&ray_q->org, r.org);
@@ -618,7 +608,7 @@ WP_KERNEL void shade_surface(WP_SHADE_SURFACE_PARAMS) {
     int local_slot = posts[lid] & 0xffff, shadow_local_slot = posts[lid] >> 16;
     if (push) {
         int slot = group_base + local_slot;
-        wp_push_path(rays_out + slot, paths_out + slot, next_ray, next_path);
+        wp_store_path(rays_out + slot, paths_out + slot, next_ray, next_path);
     }
     if (shadow) {
         int slot = shadow_group_base + shadow_local_slot;
@@ -1350,7 +1340,7 @@ WP_KERNEL void shade_surface8(WP_SHADE_SURFACE_PARAMS) {
             r.dir = make_float4(ndx[l], ndy[l], ndz[l], FLT_MAX);
             PathState np = ps[l];
             np.throughput = make_float4(nbx[l], nby[l], nbz[l], npdf[l]);
-            wp_push_path(rays_out + slot, paths_out + slot, r, np);
+            wp_store_path(rays_out + slot, paths_out + slot, r, np);
             ++slot;
         }
         if (shadow_bits & (1ul << l)) {

@@ -6,6 +6,8 @@
 #include <catch2/catch.hpp>
 
 #include <cmath>
+#include <map>
+#include <tuple>
 #include <vector>
 
 #include <glm/glm.hpp>
@@ -28,17 +30,19 @@ struct GenerateOut {
 };
 
 // The stage with one item per work-item (GPUs, the CUDA port) or eight (lanes: CPUs), with or
-// without the thin-lens program (WP_HAVE_LENS).
-render::GenerateStage& generate_stage(bool lanes, bool lens = false) {
-    auto make = [](bool l, bool with_lens) {
+// without the thin-lens program (WP_HAVE_LENS) and non-temporal stores (WP_STREAM_STORES).
+render::GenerateStage& generate_stage(bool lanes, bool lens = false, bool stream = false) {
+    static std::map<std::tuple<bool, bool, bool>, render::GenerateStage> stages;
+    const auto key = std::make_tuple(lanes, lens, stream);
+    auto it = stages.find(key);
+    if (it == stages.end()) {
         render::KernelConfig c;
-        c.generate_lanes = l;
-        c.lens = with_lens;
-        return render::GenerateStage(test::device(), c);
-    };
-    static render::GenerateStage scalar = make(false, false), eight = make(true, false);
-    static render::GenerateStage scalar_lens = make(false, true), eight_lens = make(true, true);
-    return lens ? (lanes ? eight_lens : scalar_lens) : (lanes ? eight : scalar);
+        c.generate_lanes = lanes;
+        c.lens = lens;
+        c.stream_stores = stream;
+        it = stages.emplace(key, render::GenerateStage(test::device(), c)).first;
+    }
+    return it->second;
 }
 
 // Runs the generate stage through its launcher: a wave of `count` samples from
@@ -46,9 +50,9 @@ render::GenerateStage& generate_stage(bool lanes, bool lens = false) {
 // over that pixel list from entry first_pixel on.
 GenerateOut run_generate(const CameraData& cam, cl_uint seed, cl_uint sample, int first_pixel = 0,
                          int count = 0, bool lanes = false, const std::vector<int>* active = nullptr,
-                         bool lens_program = false) {
+                         bool lens_program = false, bool stream = false) {
     auto& dev = test::device();
-    render::GenerateStage& stage = generate_stage(lanes, lens_program);
+    render::GenerateStage& stage = generate_stage(lanes, lens_program, stream);
     const int n = cam.width * cam.height;
     if (count == 0) count = n;
     const auto items = static_cast<std::size_t>(count);
@@ -219,7 +223,11 @@ TEST_CASE("generate: eight items per work-item give each item the ray and path o
         const int n = k.w * k.h;
         GenerateOut a = run_generate(cam, 21, 3, k.first, k.count, false);
         GenerateOut b = run_generate(cam, 21, 3, k.first, k.count, true);
+        // Non-temporal stores (both forms) write the same bits, radiance cleared too.
+        GenerateOut as = run_generate(cam, 21, 3, k.first, k.count, false, nullptr, false, true);
+        GenerateOut bs = run_generate(cam, 21, 3, k.first, k.count, true, nullptr, false, true);
         CHECK(b.count == k.count);
+        CHECK(bs.count == k.count);
         CHECK(b.counters[WP_COUNTER_GENERATE_NONFINITE] == 0);
         for (int i = 0; i < k.count; ++i) {
             const int s = k.first + i;
@@ -229,6 +237,11 @@ TEST_CASE("generate: eight items per work-item give each item the ray and path o
             REQUIRE(b.radiance[i].x == 0.0f);
             REQUIRE(std::memcmp(&a.rays[i], &b.rays[i], sizeof(Ray)) == 0);
             REQUIRE(std::memcmp(&a.paths[i], &b.paths[i], sizeof(PathState)) == 0);
+            for (const GenerateOut* st : {&as, &bs}) {
+                REQUIRE(std::memcmp(&a.rays[i], &st->rays[i], sizeof(Ray)) == 0);
+                REQUIRE(std::memcmp(&a.paths[i], &st->paths[i], sizeof(PathState)) == 0);
+                REQUIRE(std::memcmp(&b.radiance[i], &st->radiance[i], sizeof(float4)) == 0);
+            }
         }
     }
     // The lens program: a thin lens (the lanes take the item path) and a lens of radius 0 (the

@@ -106,9 +106,9 @@ std::string KernelConfig::replicate_options() const {
 
 std::string KernelConfig::generate_options() const {
     // The lens switch only when on: a pinhole camera keeps its program and cache key.
-    return fmt::format("-D WP_SAMPLER={}{}{}{}{}", int(estimator.sobol),
+    return fmt::format("-D WP_SAMPLER={}{}{}{}{}{}", int(estimator.sobol),
                        lens ? " -D WP_HAVE_LENS=1" : "", generate_lanes ? " -D WP_GENERATE_LANES=1" : "",
-                       replicate_options(), inject_options());
+                       stream_stores ? " -D WP_STREAM_STORES=1" : "", replicate_options(), inject_options());
 }
 
 std::string KernelConfig::shade_options() const {

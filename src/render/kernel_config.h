@@ -104,9 +104,10 @@ struct KernelConfig {
     // it off again where no light triangle has a clearance (DeviceScene's cleared_lights)
     // and the kernels are specialised; with_every_feature() turns it on.
     bool light_clearance = false;
-    // Shade pushes its queues with non-temporal stores (WP_STREAM_STORES, kernels/shared/
-    // compat.h): Wavefront sets it on CPU devices whose cache the pool's queues exceed,
-    // where it was measured faster (performance.md, "Eleventh round"); the same bits.
+    // Generate and shade fill their queues with non-temporal stores (WP_STREAM_STORES,
+    // kernels/shared/queue_store.h): Wavefront sets it on CPU devices where the pool's queues
+    // exceed the cache their cores count on (render::stream_queues), where it was measured
+    // faster (performance.md, "Eleventh round", "Twentieth round"); the same bits.
     bool stream_stores = false;
 
     bool has(MaterialKind k) const { return kinds.test(static_cast<std::size_t>(k)); }
@@ -129,7 +130,7 @@ struct KernelConfig {
     KernelConfig with_every_feature() const;
 
     // Option slices, every switch a stage reads explicit:
-    std::string generate_options() const;    // sampler, thin lens, injection
+    std::string generate_options() const;    // sampler, thin lens, lanes, streams, injection
     std::string shade_options() const;       // materials, estimator, NEE, injection
     std::string accumulate_options() const;  // injection
     std::string trace_options() const;       // intersect and shadow: alpha cut-outs
