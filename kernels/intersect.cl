@@ -54,14 +54,11 @@ WP_INTERSECT_ENTRIES(intersect_any, wp_trace_any)
 // (black background, no environment that shines): such a ray adds light only where its
 // closest hit is an emitter (at the last bounce shade only adds a hit's emission), so it is
 // traced first through the BVH of the emitting triangles alone (e_*: DeviceScene::
-// emitter_bvh, prim_ids in scene order). A ray that meets no emitter gets a miss, which adds
-// the same nothing a non-emitting hit would; one that meets an emitter at t_e is traced
-// through the whole scene for hits at t <= t_e (tmax: the next float above t_e), which is the
-// unrestricted closest hit bit for bit: the closest hit is the smallest (t, prim) among the
-// ray's hits, and (t_e, that emitter) is one of them. Wavefront::run_wave launches it for the
-// last bounce (render --final-rays); BatchTracer::trace_final for the tests. One entry, the
-// stackless traversal, inlined once (a loop over the two BVHs): each entry point and each
-// inlined traversal costs a cold start PoCL's compile time.
+// emitter_bvh, prim_ids in scene order), and through the whole scene only up to the emitter
+// it meets (wp_trace_final, bvh_traverse.h): a miss where it meets none (which adds the same
+// nothing a non-emitting hit would), else its unrestricted closest hit bit for bit.
+// Wavefront::run_wave launches it for the last bounce (render --final-rays) where shade does
+// not do it itself (shade.cl, shade_final); BatchTracer::trace_final for the tests.
 WP_KERNEL void intersect_final(WP_GLOBAL const Ray* rays, WP_GLOBAL const int* queue_count,
                                WP_GLOBAL const BvhNode* nodes, WP_GLOBAL const BvhLinks* links,
                                WP_GLOBAL const TriBlock* tris, WP_GLOBAL const int* prim_ids,
@@ -72,13 +69,6 @@ WP_KERNEL void intersect_final(WP_GLOBAL const Ray* rays, WP_GLOBAL const int* q
     if (i >= queue_count[0]) return;
     WP_ALPHA_SETUP
     TraceStats st = {0, 0};
-    Ray r = rays[i];
-    Hit h;
-    for (int whole = 0; whole < 2; ++whole) {
-        h = wp_trace_closest(r, whole ? nodes : e_nodes, whole ? links : e_links, whole ? tris : e_tris,
-                             whole ? prim_ids : e_prim_ids, &st WP_ALPHA_ARG);
-        if (h.prim < 0) break;                // no emitter on the ray (or, whole: cannot be)
-        r.dir.w = as_float(as_int(h.t) + 1);  // hits at t <= t_e
-    }
-    hits[i] = h;
+    hits[i] = wp_trace_final(rays[i], nodes, links, tris, prim_ids, e_nodes, e_links, e_tris, e_prim_ids,
+                             &st WP_ALPHA_ARG);
 }

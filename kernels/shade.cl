@@ -507,8 +507,15 @@ WP_FN void wp_push_shadow(WP_GLOBAL Ray* ray_q, WP_GLOBAL int* item_q, WP_GLOBAL
 #ifndef WP_SHADE_TRACES_SHADOWS
 #define WP_SHADE_TRACES_SHADOWS 0
 #endif
-#if WP_SHADE_TRACES_SHADOWS
+#ifndef WP_SHADE_FINAL
+#define WP_SHADE_FINAL 0
+#endif
+// (One include for both: the program loader inlines a header at its first #include only,
+// whatever the conditions around it: cl/program.cpp.)
+#if WP_SHADE_TRACES_SHADOWS || WP_SHADE_FINAL
 #include "shared/bvh_traverse.h"
+#endif
+#if WP_SHADE_TRACES_SHADOWS
 #define WP_SHADE_BVH_PARAMS \
     , WP_GLOBAL const BvhNode *bvh_nodes, WP_GLOBAL const BvhLinks *bvh_links, \
         WP_GLOBAL const TriBlock *bvh_tris, WP_GLOBAL const int *bvh_prim_ids
@@ -540,6 +547,34 @@ WP_FN void wp_push_shadow(WP_GLOBAL Ray* ray_q, WP_GLOBAL int* item_q, WP_GLOBAL
     WP_GLOBAL int* count_out, WP_GLOBAL Ray* shadow_rays, WP_GLOBAL int* shadow_items, \
     WP_GLOBAL float4* shadow_contrib, WP_GLOBAL int* shadow_count WP_SHADE_BVH_PARAMS
 
+// The light table and the appearance arrays of wp_shade_path from the kernel parameters
+// (WP_SHADE_SURFACE_PARAMS): declares `lights` and `app`.
+#define WP_SHADE_TABLES                           \
+    LightTable lights;                            \
+    lights.cdf = light_cdf;                       \
+    lights.guide = light_guide;                   \
+    lights.guide_size = light_guide_size;         \
+    lights.prims = light_prims;                   \
+    lights.pdf_area = light_pdf_area;             \
+    lights.pairs = light_pairs;                   \
+    lights.clearance = light_clearance;           \
+    lights.count = light_count;                   \
+    Appearance app;                               \
+    app.normals = tri_normals;                    \
+    app.uvs = tri_uvs;                            \
+    app.tangents = tri_tangents;                  \
+    app.material_textures = material_textures;    \
+    app.pool.textures = textures;                 \
+    app.pool.views = texture_views;               \
+    app.pool.texels8 = texels8;                   \
+    app.pool.texelsf = texelsf;                   \
+    app.env.data = env;                           \
+    app.env.texels = env_texels;                  \
+    app.env.marginal = env_marginal;              \
+    app.env.conditional = env_conditional;        \
+    app.env_distance = env_distance;              \
+    app.cone_spread = cone_spread;
+
 // The pushes are aggregated per work-group: every work-item posts what it pushes in a
 // local array, work-item 0 turns that into slots (a prefix sum in work-item order) and
 // reserves the group's range with a single global atomic add per queue (1 global atomic
@@ -555,30 +590,7 @@ WP_KERNEL void shade_surface(WP_SHADE_SURFACE_PARAMS) {
     int i = wp_global_id();
     int lid = wp_local_id();
 
-    LightTable lights;
-    lights.cdf = light_cdf;
-    lights.guide = light_guide;
-    lights.guide_size = light_guide_size;
-    lights.prims = light_prims;
-    lights.pdf_area = light_pdf_area;
-    lights.pairs = light_pairs;
-    lights.clearance = light_clearance;
-    lights.count = light_count;
-    Appearance app;
-    app.normals = tri_normals;
-    app.uvs = tri_uvs;
-    app.tangents = tri_tangents;
-    app.material_textures = material_textures;
-    app.pool.textures = textures;
-    app.pool.views = texture_views;
-    app.pool.texels8 = texels8;
-    app.pool.texelsf = texelsf;
-    app.env.data = env;
-    app.env.texels = env_texels;
-    app.env.marginal = env_marginal;
-    app.env.conditional = env_conditional;
-    app.env_distance = env_distance;
-    app.cone_spread = cone_spread;
+    WP_SHADE_TABLES
     Ray next_ray, shadow_ray;
     PathState next_path;
     float4 contrib = make_float4(0.0f, 0.0f, 0.0f, 0.0f);
@@ -614,6 +626,46 @@ WP_KERNEL void shade_surface(WP_SHADE_SURFACE_PARAMS) {
         int slot = shadow_group_base + shadow_local_slot;
         wp_push_shadow(shadow_rays + slot, shadow_items + slot, shadow_contrib + slot, shadow_ray, item, contrib);
     }
+}
+#endif
+
+#if WP_SHADE_FINAL
+// shade_final — the last bounce (bounce == max_depth) in one launch, where escaped rays carry
+// no light (KernelConfig::shade_final: the renderer traces the last bounce through the
+// emitters' BVH, render --final-rays; no cut-outs, no NaN injection). It replaces the
+// intersect_final launch and the shade launch of that bounce: each queued ray is traced as
+// intersect_final traces it (wp_trace_final: the emitters' BVH e_* first, then the scene,
+// f_*, up to the emitter it meets), and only a ray that meets an emitter is shaded, by
+// wp_shade_path as shade_surface shades it (at the last bounce: the MIS-weighted emission of
+// a front face). Every other ray adds nothing there: an escaped ray the black background, a
+// hit on a surface that does not emit nothing, and no path scatters at the last bounce; so
+// no hit is written and no other entry read. Throughputs are finite at every bounce (shade
+// pushes none that is not, generate starts at 1), so shade's entry guard would count none.
+// The same image bit for bit (tests/test_shade.cpp; render --final-rays closest). One
+// work-item per queue entry. The arguments: shade_surface's, then the scene's BVH and the
+// emitters' BVH.
+WP_KERNEL void shade_final(WP_SHADE_SURFACE_PARAMS, WP_GLOBAL const BvhNode* f_nodes,
+                           WP_GLOBAL const BvhLinks* f_links, WP_GLOBAL const TriBlock* f_tris,
+                           WP_GLOBAL const int* f_prim_ids, WP_GLOBAL const BvhNode* e_nodes,
+                           WP_GLOBAL const BvhLinks* e_links, WP_GLOBAL const TriBlock* e_tris,
+                           WP_GLOBAL const int* e_prim_ids) {
+    (void)rays_out, (void)paths_out, (void)count_out, (void)shadow_rays, (void)shadow_items;
+    (void)shadow_contrib, (void)shadow_count;
+    const int i = wp_global_id();
+    if (i >= count_in[0]) return;
+    TraceStats st = {0, 0};
+    const Ray ray = rays_in[i];
+    const Hit h = wp_trace_final(ray, f_nodes, f_links, f_tris, f_prim_ids, e_nodes, e_links, e_tris,
+                                 e_prim_ids, &st);
+    if (h.prim < 0) return;  // no emitter on the ray
+    WP_SHADE_TABLES
+    Ray next_ray, shadow_ray;
+    PathState next_path;
+    float4 contrib;
+    int shadow;
+    wp_shade_path(ray, paths_in[i], h, tris, tri_frames, material_ids, materials, material_tables,
+                  background, lights, app, seed, bounce, max_depth, radiance, counters, &next_ray,
+                  &next_path, &shadow, &shadow_ray, &contrib);
 }
 #endif
 

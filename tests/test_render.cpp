@@ -239,13 +239,18 @@ TEST_CASE("render: a depth of 10^6 ends when the paths end (furnace Le / (1 - rh
 }
 
 // The last bounce's rays through the emitters' BVH first (render --final-rays, kernels/
-// intersect.cl intersect_final) return the closest hit wherever it emits and a miss or that
-// hit elsewhere (test_intersect.cpp); where escaped rays carry no light the image must then be
-// the closest-hit render's, bit for bit, for every estimator and depth.
+// intersect.cl intersect_final, or shade.cl shade_final, which also shades the rays that
+// meet an emitter) return the closest hit wherever it emits and a miss or that hit elsewhere
+// (test_intersect.cpp); where escaped rays carry no light the image must then be the
+// closest-hit render's, bit for bit, for every estimator and depth, with the lane shade
+// kernel and the scalar one, shadow rays traced in shade or queued.
 TEST_CASE("render: the last bounce through the emitters' BVH gives the same image bit for bit",
           "[render]") {
+    struct Shade {
+        bool lanes = true, shadows_in_shade = true;
+    };
     auto render = [](const Scene& scene, render::Sampling sampling, int depth, bool final_rays,
-                     bool* engaged, bool aov = false) {
+                     bool* engaged, bool aov = false, Shade sh = {}) {
         render::RenderSettings s;
         s.aov = aov;  // feature buffers read the last bounce's hits: every bounce whole
         s.width = 40;
@@ -254,8 +259,12 @@ TEST_CASE("render: the last bounce through the emitters' BVH gives the same imag
         s.seed = 5;
         s.estimator.sampling = sampling;
         s.final_rays = final_rays;
+        s.shade_lanes = sh.lanes;
+        s.shadows_in_shade = sh.shadows_in_shade;
         render::Wavefront wf(test::device(), scene, s);
         *engaged = wf.final_rays_through_emitters();
+        // Where it traces them so, shade does the last bounce in one launch (shade_final).
+        CHECK(wf.config().shade_final() == *engaged);
         render::LoopOptions lo;
         lo.spp = 4;
         render::render_frames(wf, lo, nullptr);
@@ -270,6 +279,24 @@ TEST_CASE("render: the last bounce through the emitters' BVH gives the same imag
             bool on = false, off = true;
             auto a = render(scene, sampling, depth, true, &on);
             auto b = render(scene, sampling, depth, false, &off);
+            CHECK(on);
+            CHECK_FALSE(off);
+            REQUIRE(a.size() == b.size());
+            CHECK(std::memcmp(a.data(), b.data(), a.size() * sizeof(FilmPixel)) == 0);
+        }
+    // The scalar shade kernel (and its shadow queue) on the box; the lane kernel with queued
+    // shadow rays on veach-plates (light pairs: sphere lights; rough conductors); depths 1
+    // and 2.
+    struct Variant {
+        Scene scene;
+        Shade shade;
+    };
+    for (const Variant& v : {Variant{scene, Shade{false, false}}, Variant{make_veach_plates(), Shade{true, false}}})
+        for (int depth : {1, 2}) {
+            INFO("lanes " << v.shade.lanes << ", " << v.scene.triangles.size() << " triangles, depth " << depth);
+            bool on = false, off = true;
+            auto a = render(v.scene, render::Sampling::Mis, depth, true, &on, false, v.shade);
+            auto b = render(v.scene, render::Sampling::Mis, depth, false, &off, false, v.shade);
             CHECK(on);
             CHECK_FALSE(off);
             REQUIRE(a.size() == b.size());

@@ -105,12 +105,13 @@ TEST_CASE("render CLI: a small render writes only the -o file and the profile", 
     for (auto& s : j["stages"]) has_intersect |= s["name"] == "intersect.closest";
     CHECK(has_intersect);
     auto t = nlohmann::json::parse(std::ifstream(d.path / "prof.trace.json"));
-    // 2 waves x (generate + 3 x (intersect, reset, shade) + accumulate) complete events:
-    // paths of the open box survive to depth 2, and shade traces the shadow rays of the
-    // default --sampling mis itself (no shadow stage; test_shadow.cpp runs it).
+    // 2 waves x (generate + 2 x (intersect, reset, shade) + the last bounce's (reset,
+    // shade_final) + accumulate) complete events: paths of the open box survive to depth 2,
+    // shade traces the shadow rays of the default --sampling mis itself (no shadow stage;
+    // test_shadow.cpp runs it) and the last bounce's rays too (--final-rays emitters).
     int complete = 0;
     for (auto& e : t["traceEvents"]) complete += e["ph"] == "X" && e["tid"] == 1;
-    CHECK(complete == 2 * (1 + 3 * 3 + 1));
+    CHECK(complete == 2 * (1 + 2 * 3 + 2 + 1));
     // Issue 12, item 7: host work on its own track (tid 2 "host"), on the device's clock, in
     // the order it ran.
     std::vector<std::string> host;

@@ -597,6 +597,29 @@ WP_FN Hit wp_trace_closest_stack(Ray ray, WP_GLOBAL const BvhNode* nodes,
     }
 }
 
+// The closest hit of a last-bounce ray in a scene whose escaped rays carry no light
+// (intersect.cl, intersect_final; shade.cl, shade_final): first through the BVH of the
+// emitting triangles alone (e_*; prim_ids in scene order); a ray that meets no emitter gets
+// that miss. One that meets an emitter at t_e is traced through the whole scene for hits at
+// t <= t_e (tmax: the next float above t_e), which is its unrestricted closest hit bit for
+// bit (the closest hit is the smallest (t, prim) among the ray's hits, and (t_e, that
+// emitter) is one of them). One loop over the two BVHs, so that the traversal is inlined
+// once: each inlined copy costs PoCL's compile time and, left as a call, the walk itself.
+WP_FN Hit wp_trace_final(Ray r, WP_GLOBAL const BvhNode* nodes, WP_GLOBAL const BvhLinks* links,
+                         WP_GLOBAL const TriBlock* tris, WP_GLOBAL const int* prim_ids,
+                         WP_GLOBAL const BvhNode* e_nodes, WP_GLOBAL const BvhLinks* e_links,
+                         WP_GLOBAL const TriBlock* e_tris, WP_GLOBAL const int* e_prim_ids,
+                         TraceStats* stats WP_ALPHA_PARAM) {
+    Hit h;
+    for (int whole = 0; whole < 2; ++whole) {
+        h = wp_trace_closest(r, whole ? nodes : e_nodes, whole ? links : e_links, whole ? tris : e_tris,
+                             whole ? prim_ids : e_prim_ids, stats WP_ALPHA_ARG);
+        if (h.prim < 0) break;                // no emitter on the ray (or, whole: cannot be)
+        r.dir.w = as_float(as_int(h.t) + 1);  // hits at t <= t_e
+    }
+    return h;
+}
+
 WP_NAMESPACE_END
 
 #endif  // WP_BVH_TRAVERSE_H

@@ -134,6 +134,7 @@ std::string KernelConfig::shade_options() const {
     if (stream_stores) o += " -D WP_STREAM_STORES=1";
     if (shade_lanes()) o += " -D WP_SHADE_LANES=1";
     if (shade_traces_shadows()) o += " -D WP_SHADE_TRACES_SHADOWS=1";
+    if (shade_final()) o += " -D WP_SHADE_FINAL=1";
     return o + replicate_options() + inject_options();
 }
 

@@ -109,6 +109,9 @@ struct KernelConfig {
     // exceed the cache their cores count on (render::stream_queues), where it was measured
     // faster (performance.md, "Eleventh round", "Twentieth round"); the same bits.
     bool stream_stores = false;
+    // The renderer traces the last bounce's rays through the emitters' BVH (Wavefront::
+    // final_rays_through_emitters: escaped rays carry no light): see shade_final().
+    bool final_rays = false;
 
     bool has(MaterialKind k) const { return kinds.test(static_cast<std::size_t>(k)); }
     // Light sampling is compiled only when something emits (a triangle or the environment)
@@ -146,6 +149,11 @@ struct KernelConfig {
     // and shadows_in_shade allows it. Its light samples then never enter a queue: no
     // shadow queue in the pool, no shadow stage (kernels/shade.cl says why).
     bool shade_traces_shadows() const;
+    // Shade also builds shade_final (-D WP_SHADE_FINAL=1), the last bounce's tracing and
+    // emission in one launch (kernels/shade.cl): where final_rays, no material is cut out
+    // (its traversal has no alpha test) and no NaN is injected (its entry guard would not see
+    // the misses).
+    bool shade_final() const { return final_rays && !alpha_mask && inject_nan == 0; }
     // The pool holds a shadow queue and the shadow stage runs: light sampling without the
     // lane kernel.
     bool shadow_queue() const;

@@ -117,6 +117,7 @@ Wavefront::Wavefront(ocl::Device& dev, const Scene& scene, const RenderSettings&
         scene_.stats.scene_bytes += scene_.shading.light_clearance.bytes();
     }
     config_.stream_stores = stream_queues(dev.info, std::uint64_t(memory_.pool_paths) * memory_.bytes_per_path);
+    config_.final_rays = final_emitters_;
     options_ = config_.options();
 
     // Programs (disk-cached), one per stage, each with its slice of the configuration.
@@ -342,6 +343,16 @@ void Wavefront::run_wave(int first_pixel, std::uint32_t first_sample, int count,
     for (int b = 0; b <= depth; ++b) {
         const PathQueue& in = pool_.queue[b & 1];
         const PathQueue& out = pool_.queue[(b & 1) ^ 1];
+        if (b == depth && final_emitters_ && shade_.has_final()) {
+            // The last bounce in one launch: traced as below, and shaded only where a ray
+            // meets an emitter (shade_final; the same image).
+            queues_.enqueue_reset(in.count, out.count, pool_.shadow.count, film_.ray_total,
+                                  film_.shadow_ray_total);
+            shade_.enqueue_final(live, in, scene_.shading, settings_.seed, depth, pool_.radiance,
+                                 film_.counters, out, pool_.shadow, pool_.hits, scene_.bvh,
+                                 scene_.emitter_bvh);
+            break;
+        }
         // Closest hits of the queued rays; at the last bounce, where only emitters can add
         // light, through the emitters' BVH first (the same hits wherever shade adds).
         if (b == depth && final_emitters_)

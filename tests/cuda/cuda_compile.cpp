@@ -47,11 +47,13 @@ namespace {
 
 // The configuration `wavepath render` ships for the shade stage, every material kind on:
 // the renderer's own option string (render/kernel_config.h), not a copy of it.
-// (with the shadow segments' clearance, which a render turns on by default).
+// (with the shadow segments' clearance, which a render turns on by default, and the last
+// bounce's shade_final of a scene whose escaped rays carry no light).
 const std::string kShipped = [] {
     render::KernelConfig c;
     c.light_clearance = true;
     c.stream_stores = true;
+    c.final_rays = true;
     return c.shade_options();
 }();
 // The same with every appearance feature of issue 13 on (normals, textures, normal maps,
@@ -62,10 +64,12 @@ const std::string kAppearance = [] {
     c.light_clearance = true;
     return c.shade_options() + " " + c.trace_options();
 }();
-// The generate stage with a thin-lens camera (WP_HAVE_LENS), from the renderer's own string.
+// The generate stage with a thin-lens camera (WP_HAVE_LENS) and streamed queue stores, from
+// the renderer's own string.
 const std::string kLens = [] {
     render::KernelConfig c;
     c.lens = true;
+    c.stream_stores = true;
     return c.generate_options();
 }();
 

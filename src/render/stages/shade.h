@@ -31,6 +31,17 @@ class ShadeStage {
                         const ocl::Array<float4>& radiance, const ocl::Array<int>& counters,
                         const PathQueue& out, const ShadowQueue& shadow,
                         const bvh::DeviceBvh* bvh = nullptr);
+    // shade_final (KernelConfig::shade_final): the last bounce, bounce == max_depth, of the
+    // paths of `in` in one launch: traced through `emitters` first and then `bvh` (as
+    // IntersectStage::enqueue_final), and the emission of the rays that meet an emitter added
+    // to radiance[item]. Nothing is pushed; no hit is written. `bvh` is also the BVH shade
+    // traces its shadow rays through where it does (enqueue).
+    ::cl::Event enqueue_final(std::size_t launch, const PathQueue& in, const ShadingScene& scene,
+                              std::uint32_t seed, int max_depth, const ocl::Array<float4>& radiance,
+                              const ocl::Array<int>& counters, const PathQueue& out,
+                              const ShadowQueue& shadow, const ocl::Array<Hit>& hits,
+                              const bvh::DeviceBvh& bvh, const bvh::DeviceBvh& emitters);
+    bool has_final() const { return bool(final_); }
     const ocl::Program& program() const { return program_; }
 
   private:
@@ -39,6 +50,7 @@ class ShadeStage {
     bool lanes_ = false;  // kernel_ is shade_surface8 (KernelConfig::shade_lanes)
     bool traces_ = false;  // it traces its shadow rays (KernelConfig::shade_traces_shadows)
     ocl::Kernel kernel_;
+    ocl::Kernel final_;  // shade_final, where the program has it (KernelConfig::shade_final)
     ocl::Kernel frames_;
 };
 
