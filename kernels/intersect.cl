@@ -69,6 +69,8 @@ WP_KERNEL void intersect_final(WP_GLOBAL const Ray* rays, WP_GLOBAL const int* q
     if (i >= queue_count[0]) return;
     WP_ALPHA_SETUP
     TraceStats st = {0, 0};
-    hits[i] = wp_trace_final(rays[i], nodes, links, tris, prim_ids, e_nodes, e_links, e_tris, e_prim_ids,
-                             &st WP_ALPHA_ARG);
+    Hit h;
+    wp_trace_final(rays[i], nodes, links, tris, prim_ids, e_nodes, e_links, e_tris, e_prim_ids, &h,
+                   &st WP_ALPHA_ARG);
+    hits[i] = h;
 }

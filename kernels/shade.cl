@@ -655,8 +655,8 @@ WP_KERNEL void shade_final(WP_SHADE_SURFACE_PARAMS, WP_GLOBAL const BvhNode* f_n
     if (i >= count_in[0]) return;
     TraceStats st = {0, 0};
     const Ray ray = rays_in[i];
-    const Hit h = wp_trace_final(ray, f_nodes, f_links, f_tris, f_prim_ids, e_nodes, e_links, e_tris,
-                                 e_prim_ids, &st);
+    Hit h;
+    wp_trace_final(ray, f_nodes, f_links, f_tris, f_prim_ids, e_nodes, e_links, e_tris, e_prim_ids, &h, &st);
     if (h.prim < 0) return;  // no emitter on the ray
     WP_SHADE_TABLES
     Ray next_ray, shadow_ray;

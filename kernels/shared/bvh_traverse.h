@@ -605,19 +605,19 @@ WP_FN Hit wp_trace_closest_stack(Ray ray, WP_GLOBAL const BvhNode* nodes,
 // bit (the closest hit is the smallest (t, prim) among the ray's hits, and (t_e, that
 // emitter) is one of them). One loop over the two BVHs, so that the traversal is inlined
 // once: each inlined copy costs PoCL's compile time and, left as a call, the walk itself.
-WP_FN Hit wp_trace_final(Ray r, WP_GLOBAL const BvhNode* nodes, WP_GLOBAL const BvhLinks* links,
-                         WP_GLOBAL const TriBlock* tris, WP_GLOBAL const int* prim_ids,
-                         WP_GLOBAL const BvhNode* e_nodes, WP_GLOBAL const BvhLinks* e_links,
-                         WP_GLOBAL const TriBlock* e_tris, WP_GLOBAL const int* e_prim_ids,
-                         TraceStats* stats WP_ALPHA_PARAM) {
-    Hit h;
+// The hit goes to *hit: a function that returns a struct and is inlined leaves an
+// llvm.experimental.noalias.scope.decl (for its return slot) that Oclgrind cannot run.
+WP_FN void wp_trace_final(Ray r, WP_GLOBAL const BvhNode* nodes, WP_GLOBAL const BvhLinks* links,
+                          WP_GLOBAL const TriBlock* tris, WP_GLOBAL const int* prim_ids,
+                          WP_GLOBAL const BvhNode* e_nodes, WP_GLOBAL const BvhLinks* e_links,
+                          WP_GLOBAL const TriBlock* e_tris, WP_GLOBAL const int* e_prim_ids, Hit* hit,
+                          TraceStats* stats WP_ALPHA_PARAM) {
     for (int whole = 0; whole < 2; ++whole) {
-        h = wp_trace_closest(r, whole ? nodes : e_nodes, whole ? links : e_links, whole ? tris : e_tris,
-                             whole ? prim_ids : e_prim_ids, stats WP_ALPHA_ARG);
-        if (h.prim < 0) break;                // no emitter on the ray (or, whole: cannot be)
-        r.dir.w = as_float(as_int(h.t) + 1);  // hits at t <= t_e
+        *hit = wp_trace_closest(r, whole ? nodes : e_nodes, whole ? links : e_links, whole ? tris : e_tris,
+                                whole ? prim_ids : e_prim_ids, stats WP_ALPHA_ARG);
+        if (hit->prim < 0) break;                // no emitter on the ray (or, whole: cannot be)
+        r.dir.w = as_float(as_int(hit->t) + 1);  // hits at t <= t_e
     }
-    return h;
 }
 
 WP_NAMESPACE_END
