@@ -41,6 +41,9 @@
 // makes the kernel trace its own shadow rays (below, at shade_surface8) through the BVH
 // passed after its other arguments (bvh_nodes, bvh_links, bvh_tris, bvh_prim_ids: the
 // intersect stage's), so nothing goes into the shadow queue but the count in shadow_count.
+// WP_SHADE_FINAL (KernelConfig::shade_final) adds shade_final, the last bounce's tracing
+// and emission in one launch where escaped rays carry no light (below, before
+// shade_triangle_frames).
 // Emission is one-sided: only the front face (counter-clockwise winding normal) emits.
 // Shading normals shape the BSDF only; geometric normals decide sides, ray offsets and
 // which directions are reflections (shading.h lists the failure modes and their guards).
@@ -641,8 +644,8 @@ WP_KERNEL void shade_surface(WP_SHADE_SURFACE_PARAMS) {
 // hit on a surface that does not emit nothing, and no path scatters at the last bounce; so
 // no hit is written and no other entry read. Throughputs are finite at every bounce (shade
 // pushes none that is not, generate starts at 1), so shade's entry guard would count none.
-// The same image bit for bit (tests/test_shade.cpp; render --final-rays closest). One
-// work-item per queue entry. The arguments: shade_surface's, then the scene's BVH and the
+// The same image bit for bit (tests/test_render.cpp, against render --final-rays closest).
+// One work-item per queue entry. The arguments: shade_surface's, then the scene's BVH and the
 // emitters' BVH.
 WP_KERNEL void shade_final(WP_SHADE_SURFACE_PARAMS, WP_GLOBAL const BvhNode* f_nodes,
                            WP_GLOBAL const BvhLinks* f_links, WP_GLOBAL const TriBlock* f_tris,
