@@ -71,14 +71,13 @@ template <typename... More>
     if (emitters.node_count == 0) fail("shade: the last bounce's rays need the emitters' BVH");
     // One work-item per queue entry; after shade_surface's arguments (with its shadow BVH
     // where it traces) the scene's BVH and the emitters'.
-    if (!traces_)
+    auto launch_with = [&](const auto&... shadow_bvh) {
         return launch_shade(final_, target_, launch, in, hits, scene, seed, max_depth, max_depth, radiance,
-                            counters, out, shadow, bvh.nodes, bvh.links, bvh.triangles, bvh.prim_ids,
-                            emitters.nodes, emitters.links, emitters.triangles, emitters.prim_ids);
-    return launch_shade(final_, target_, launch, in, hits, scene, seed, max_depth, max_depth, radiance, counters,
-                        out, shadow, bvh.nodes, bvh.links, bvh.triangles, bvh.prim_ids, bvh.nodes, bvh.links,
-                        bvh.triangles, bvh.prim_ids, emitters.nodes, emitters.links, emitters.triangles,
-                        emitters.prim_ids);
+                            counters, out, shadow, shadow_bvh..., bvh.nodes, bvh.links, bvh.triangles,
+                            bvh.prim_ids, emitters.nodes, emitters.links, emitters.triangles, emitters.prim_ids);
+    };
+    if (!traces_) return launch_with();
+    return launch_with(bvh.nodes, bvh.links, bvh.triangles, bvh.prim_ids);
 }
 
 }  // namespace wp::render
