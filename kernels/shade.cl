@@ -1215,7 +1215,7 @@ WP_KERNEL void shade_surface8(WP_SHADE_SURFACE_PARAMS) {
 #if WP_HAVE_GLOSSY
                 if (wp_lane_bits(glossy & sampled)) {
                     float8 gpdf;
-                    const L3 gf = wp_glossy_eval8(albedo, alpha, dn, ns, wi, cos_i, &gpdf, glossy & sampled);
+                    const L3 gf = wp_glossy_eval8(albedo, alpha, dn, ns, wi, cos_i, &gpdf);
                     fcos = l3_select(fcos, gf, glossy);
                     bsdf_pdf = select(bsdf_pdf, gpdf, glossy);
                 }
@@ -1295,7 +1295,7 @@ WP_KERNEL void shade_surface8(WP_SHADE_SURFACE_PARAMS) {
             if (wp_lane_bits(glossy & alive)) {
                 L3 gwo, gweight;
                 float8 gpdf;
-                const int8 scattered = wp_glossy_sample8(albedo, alpha, dn, ns, ux, uy, &gwo, &gweight, &gpdf, glossy & alive);
+                const int8 scattered = wp_glossy_sample8(albedo, alpha, dn, ns, ux, uy, &gwo, &gweight, &gpdf);
                 alive &= ~glossy | scattered;  // a glossy draw below the surface: absorbed
                 wo = l3_select(wo, gwo, glossy);
                 weight = l3_select(weight, gweight, glossy);

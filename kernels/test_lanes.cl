@@ -96,10 +96,10 @@ WP_KERNEL void probe_glossy8(int n, WP_GLOBAL const float* in, WP_GLOBAL uint* l
     float8 u1 = vload8(0, a[10]), u2 = vload8(0, a[11]);
     L3 wo, weight;
     float8 pdf;
-    int8 ok = wp_glossy_sample8(albedo, alpha, d, ns, u1, u2, &wo, &weight, &pdf, (int8)(-1));
+    int8 ok = wp_glossy_sample8(albedo, alpha, d, ns, u1, u2, &wo, &weight, &pdf);
     L3 wi = l3(vload8(0, wix), vload8(0, wiy), vload8(0, wiz));
     float8 epdf;
-    L3 f = wp_glossy_eval8(albedo, alpha, d, ns, wi, l3_dot(wi, ns), &epdf, (int8)(-1));
+    L3 f = wp_glossy_eval8(albedo, alpha, d, ns, wi, l3_dot(wi, ns), &epdf);
     L3 mwo = wp_reflect8(d, ns);
     float8 res[16] = {as_float8(ok), wo.x, wo.y, wo.z, weight.x, weight.y, weight.z, pdf,
                       f.x, f.y, f.z, epdf, mwo.x, mwo.y, mwo.z, (float8)(0.0f)};
@@ -121,8 +121,9 @@ WP_KERNEL void probe_glossy8(int n, WP_GLOBAL const float* in, WP_GLOBAL uint* l
 // probe_math8: the builtins the lane code spells out, against the scalar ones.
 // reads   per lane 4 floats: v xyz, y
 // writes  per lane 8 words to lane[] and scalar[]: normalize(v) xyz (lane: l3_normalize),
-//         pow(|v.x|, y) (lane: pow(float8) in word 3, wp_pow8 in word 4), cross(v, (y, v.z,
-//         v.x)) xyz
+//         word 3 wp_pow(|v.x|, y) (lane: wp_pow8), word 4 the builtin pow(|v.x|, y) (lane:
+//         the scalar wp_pow, to compare with the host's wp_pow and the builtin), cross(v, (y,
+//         v.z, v.x)) xyz
 WP_KERNEL void probe_math8(int n, WP_GLOBAL const float* in, WP_GLOBAL uint* lane,
                            WP_GLOBAL uint* scalar) {
     int i = wp_global_id();
@@ -132,9 +133,9 @@ WP_KERNEL void probe_math8(int n, WP_GLOBAL const float* in, WP_GLOBAL uint* lan
     for (int l = 0; l < 8; ++l) {
         float3 v = make_float3(a[0][l], a[1][l], a[2][l]);
         float3 nv = normalize(v);
-        float p = pow(fabs(v.x), a[3][l]);
+        float p = wp_pow(fabs(v.x), a[3][l]);
         float3 c = cross(v, make_float3(a[3][l], v.z, v.x));
-        float r[8] = {nv.x, nv.y, nv.z, p, p, c.x, c.y, c.z};
+        float r[8] = {nv.x, nv.y, nv.z, p, pow(fabs(v.x), a[3][l]), c.x, c.y, c.z};
         for (int k = 0; k < 8; ++k) scalar[(8 * i + l) * 8 + k] = as_uint(r[k]);
     }
 #if defined(WP_OPENCL)
@@ -142,12 +143,13 @@ WP_KERNEL void probe_math8(int n, WP_GLOBAL const float* in, WP_GLOBAL uint* lan
     float8 y = vload8(0, a[3]);
     L3 nv = l3_normalize(v);
     L3 c = l3_cross(v, l3(y, v.z, v.x));
-    float8 res[8] = {nv.x, nv.y, nv.z, pow(fabs(v.x), y), wp_pow8(fabs(v.x), y, (int8)(-1)), c.x, c.y, c.z};
+    float8 res[8] = {nv.x, nv.y, nv.z, wp_pow8(fabs(v.x), y), (float8)(0.0f), c.x, c.y, c.z};
     for (int k = 0; k < 8; ++k) {
         uint b[8];
         vstore8(as_uint8(res[k]), 0, b);
         for (int l = 0; l < 8; ++l) lane[(8 * i + l) * 8 + k] = b[l];
     }
+    for (int l = 0; l < 8; ++l) lane[(8 * i + l) * 8 + 4] = as_uint(wp_pow(fabs(a[0][l]), a[3][l]));
 #else
     for (int j = 8 * 8 * i; j < 8 * 8 * (i + 1); ++j) lane[j] = scalar[j];
 #endif

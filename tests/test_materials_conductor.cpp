@@ -633,9 +633,9 @@ TEST_CASE("conductor: white furnace of the rough conductor (F = 1) and its energ
 // Extreme inputs (α from 1e-4 to 2, directions down to cos θ = 1e-30, random numbers 0 and
 // 1 − 2^-24): every sample, weight, density and f cos is finite and non-negative, sampled
 // directions are unit and above the surface, and the microfacet functions give no NaN.
-// The inline replacements for library calls on the Beckmann path (microfacet.h) against
-// double precision (std::erf, std::log, std::atan2) over dense sweeps; the bounds are the
-// ones the comments in microfacet.h state.
+// The inline replacements for library calls on the Beckmann path (microfacet.h; wp_exp in
+// sampling.h) against double precision (std::erf, std::log, std::atan2) over dense sweeps;
+// the bounds are the ones the comments in those headers state.
 TEST_CASE("conductor: inline erf log exp atan2 erfinv against double", "[unit][conductor]") {
     double erf_abs = 0, erf_rel = 0;
     for (long i = -2000000; i <= 2000000; ++i) {  // [-6, 6] in steps of 3e-6

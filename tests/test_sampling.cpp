@@ -623,6 +623,63 @@ TEST_CASE("sampling: sincos of 2 pi u is within 2 ulp-scale error of double", "[
     }
 }
 
+// wp_pow against pow in double: bases over every binade of the floats (denormals included)
+// and densely near 1 (the Phong lobe's cosines), exponents from 1e-6 (1 / (e + 1) of the
+// lobe sampler) to 1e6 (its pdf's e) and negative; relative error where the result is a
+// normal float, the bound sampling.h states. Then the ends as pow has them.
+TEST_CASE("sampling: inline pow is within its stated error of double pow", "[unit][sampling]") {
+    test::Rng rng(0x90e);
+    double worst = 0.0;
+    float worst_x = 0.0f, worst_y = 0.0f;
+    long compared = 0;
+    auto check = [&](float x, float y) {
+        const double r = std::pow(double(x), double(y));
+        if (!(r >= 0x1p-126 && r <= 0x1.fffffep127)) return;
+        const double e = std::abs(double(wp_pow(x, y)) - r) / r;
+        ++compared;
+        if (e > worst) worst = e, worst_x = x, worst_y = y;
+    };
+    const float ys[] = {0.5f, 1.0f, 2.0f, 3.0f, 1.0f / 3.0f, 100.0f, 1.0f / 101.0f, -1.0f, -2.5f, 20000.0f};
+    for (int k = 0; k < 4000000; ++k) {
+        float x, y;
+        switch (k % 4) {
+            case 0: x = std::ldexp(rng.uniform(1.0f, 2.0f), int(rng.next() % 276) - 149); break;  // any binade
+            case 1: x = 1.0f - std::pow(10.0f, rng.uniform(-7.5f, 0.0f)); break;  // cosines near 1
+            case 2: x = 1.0f + std::pow(10.0f, rng.uniform(-7.0f, 0.5f)); break;
+            default: x = rng.uniform(); break;
+        }
+        switch (k % 3) {
+            case 0: y = std::pow(10.0f, rng.uniform(-6.0f, 6.0f)); break;
+            case 1: y = -std::pow(10.0f, rng.uniform(-3.0f, 2.0f)); break;
+            default: y = ys[(k / 3) % 10]; break;
+        }
+        check(x, y);
+    }
+    for (float x = 0.999f; x < 1.001f; x = std::nextafter(x, 2.0f)) check(x, 1e5f);  // every float
+    INFO("wp_pow: max rel " << worst << " at pow(" << worst_x << ", " << worst_y << ") over " << compared);
+    CHECK(compared > 2000000);
+    CHECK(worst < 2.5e-7);  // measured 2.38e-7
+    for (float y : {0.5f, 3.0f, 1e6f}) {
+        CHECK(wp_pow(0.0f, y) == 0.0f);
+        CHECK(wp_pow(-0.0f, y) == 0.0f);
+        CHECK(wp_pow(INFINITY, y) == INFINITY);
+        CHECK(wp_pow(1.0f, y) == 1.0f);
+        CHECK(wp_pow(0.5f, -y) > 1.0f);
+        CHECK(std::isnan(wp_pow(-0.5f, y)));
+        CHECK(std::isnan(wp_pow(NAN, y)));
+    }
+    CHECK(wp_pow(0.0f, 0.0f) == 1.0f);
+    CHECK(wp_pow(0.0f, -1.0f) == INFINITY);
+    CHECK(wp_pow(INFINITY, -1.0f) == 0.0f);
+    CHECK(wp_pow(INFINITY, 0.0f) == 1.0f);
+    CHECK(wp_pow(0.3f, 0.0f) == 1.0f);
+    CHECK(wp_pow(2.0f, 10.0f) == 1024.0f);
+    CHECK(wp_pow(2.0f, 128.0f) == INFINITY);
+    CHECK(wp_pow(0.5f, 160.0f) == 0.0f);  // below e^-104: 0, as wp_exp
+    CHECK(wp_pow(0x1p-149f, 1.0f) == 0x1p-149f);
+    CHECK(std::isnan(wp_pow(0.5f, NAN)));
+}
+
 // The device's Sobol numbers (128-bit vector code in OpenCL) equal the host's scalar
 // spelling of the same steps, bit for bit.
 TEST_CASE("sampling: Sobol numbers on the device equal the host's", "[kernel][sampling]") {

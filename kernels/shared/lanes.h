@@ -112,6 +112,65 @@ WP_FN float8 wp_shadow_end_clear8(float8 tmax, L3 sd, L3 y, L3 yerr, L3 ln, floa
 }
 
 // sampling.h
+WP_FN float8 wp_exp_reduced8(float8 n, float8 r) {
+    float8 p = 1.9875691500e-4f;
+    p = 1.3981999507e-3f + p * r;
+    p = 8.3334519073e-3f + p * r;
+    p = 4.1665795894e-2f + p * r;
+    p = 1.6666665459e-1f + p * r;
+    p = 5.0000001201e-1f + p * r;
+    float8 y = p * (r * r) + r + 1.0f;
+    int8 ni = convert_int8(n);
+    int8 n1 = ni >> 1, n2 = ni - n1;
+    return y * as_float8((n1 + 127) << 23) * as_float8((n2 + 127) << 23);
+}
+WP_FN float8 wp_exp8(float8 x) {
+    float8 xc = clamp(x, -104.0f, 89.0f);
+    float8 n = floor(xc * 1.44269504088896341f + 0.5f);
+    float8 r = xc - n * 0.693359375f;
+    r = r - n * -2.12194440e-4f;
+    return select(wp_exp_reduced8(n, r), x, isnan(x));
+}
+// Lane masks are -1 where true: the scalar form's "+ big" is "- big" here.
+WP_FN float8 wp_pow8(float8 x, float8 y) {
+    const int8 denormal = x < 1.17549435e-38f;
+    const float8 xs = select(x, x * 16777216.0f, denormal);
+    const int8 i = as_int8(xs);
+    float8 m = as_float8((i & 0x007fffff) | 0x3f800000);
+    const int8 big = m >= 1.41421356f;
+    m = select(m, 0.5f * m, big);
+    const float8 fe = convert_float8(((i >> 23) & 0xff) - 127 - (denormal & 24) - big);
+    const float8 a = m - 1.0f;
+    const float8 b = m + 1.0f;
+    const float8 be = m - (b - 1.0f);
+    const float8 t = a / b;
+    const float8 tl = (fma(-t, b, a) - t * be) / b;
+    const float8 t2 = t * t;
+    float8 q = 0.15384615384615385f;
+    q = 0.18181818181818182f + q * t2;
+    q = 0.22222222222222222f + q * t2;
+    q = 0.28571428571428571f + q * t2;
+    q = 0.4f + q * t2;
+    q = 0.66666666666666667f + q * t2;
+    const float8 s1 = fe * 0.693359375f, s2 = 2.0f * t;
+    const float8 lh = s1 + s2;
+    const float8 bv = lh - s1;
+    const float8 l2 = ((s1 - (lh - bv)) + (s2 - bv)) + (fe * -2.12194440e-4f + (2.0f * tl + t2 * t * q));
+    const float8 l1 = lh + l2;  // renormalised (|l2| <= |lh|): |ll| <= ulp(l1) / 2
+    const float8 ll = l2 - (l1 - lh);
+    const float8 zh = y * l1;
+    const float8 zl = fma(y, l1, -zh) + y * ll;
+    const float8 zc = clamp(zh, -104.0f, 89.0f);
+    const float8 n = floor(zc * 1.44269504088896341f + 0.5f);
+    float8 r = zc - n * 0.693359375f;
+    r = r - n * -2.12194440e-4f;
+    r = r + select((float8)(0.0f), zl, zc == zh);
+    float8 p = wp_exp_reduced8(n, r);
+    const float8 lo = select(select((float8)(1.0f), (float8)(INFINITY), y < 0.0f), (float8)(0.0f), y > 0.0f);
+    p = select(p, lo, x == 0.0f);
+    p = select(p, 1.0f / lo, x == INFINITY);
+    return select((float8)(NAN), p, (x >= 0.0f) & (y == y));
+}
 WP_FN void wp_sincos_2pi8(float8 u, float8* s, float8* c) {
     float8 t = 4.0f * u;
     int8 q = convert_int8(t + 0.5f);
@@ -215,20 +274,8 @@ WP_FN L3 wp_spherical_local8(float8 cos_theta, float8 u) {
     wp_sincos_2pi8(u, &sp, &cp);
     return l3(sin_theta * cp, sin_theta * sp, cos_theta);
 }
-// pow per lane with the scalar builtin: PoCL's pow(float8) does not give the scalar pow's
-// bits in every lane (tests/test_lanes.cpp, "pow" case), so one scalar call per lane of
-// mask `need` (a library call each: the other lanes get 1, uncomputed).
-WP_FN float8 wp_pow8(float8 x, float8 y, int8 need) {
-    float a[8], b[8], r[8];
-    int bits = wp_lane_bits(need);
-    vstore8(x, 0, a);
-    vstore8(y, 0, b);
-#pragma unroll
-    for (int l = 0; l < 8; ++l) r[l] = (bits & (1 << l)) ? pow(a[l], b[l]) : 1.0f;
-    return vload8(0, r);
-}
-WP_FN float8 wp_phong_lobe_pdf8(float8 cos_alpha, float8 exponent, int8 need) {
-    return select((float8)(0.0f), (exponent + 1.0f) * WP_INV_2PI * wp_pow8(cos_alpha, exponent, need),
+WP_FN float8 wp_phong_lobe_pdf8(float8 cos_alpha, float8 exponent) {
+    return select((float8)(0.0f), (exponent + 1.0f) * WP_INV_2PI * wp_pow8(cos_alpha, exponent),
                   cos_alpha > 0.0f);
 }
 WP_FN float8 wp_ggx_d8(L3 h, float8 alpha) {
@@ -280,19 +327,18 @@ WP_FN L3 wp_fresnel_schlick8(L3 f0, float8 cos_theta) {
 WP_FN float8 wp_ggx_alpha_to_phong8(float8 alpha) { return 2.0f / (alpha * alpha) - 2.0f; }
 
 // wp_glossy_sample per lane: the mask of the lanes where it returns 1; there *wo, *weight
-// and *pdf hold its outputs (elsewhere: anything). `need`: the lanes whose results are used
-// (the Phong model's library calls are made for those only).
+// and *pdf hold its outputs (elsewhere: anything).
 WP_FN int8 wp_glossy_sample8(L3 albedo, float8 alpha, L3 d, L3 ns, float8 u1, float8 u2,
-                             L3* wo, L3* weight, float8* pdf, int8 need) {
+                             L3* wo, L3* weight, float8* pdf) {
 #if WP_GLOSSY_MODEL == WP_GLOSSY_PHONG
     float8 e = wp_ggx_alpha_to_phong8(alpha);
     L3 r = wp_reflect8(d, ns);
-    float8 cos_alpha = wp_pow8(1.0f - u1, 1.0f / (e + 1.0f), need);
+    float8 cos_alpha = wp_pow8(1.0f - u1, 1.0f / (e + 1.0f));
     L3 lv = wp_spherical_local8(cos_alpha, u2);
     L3 w = wp_to_world8(lv, r);
     *wo = w;
     *weight = albedo;
-    *pdf = wp_phong_lobe_pdf8(lv.z, e, need);
+    *pdf = wp_phong_lobe_pdf8(lv.z, e);
     return l3_dot(w, ns) > 0.0f;
 #else
     L3 vo = wp_to_local8(l3_neg(d), ns);
@@ -308,14 +354,13 @@ WP_FN int8 wp_glossy_sample8(L3 albedo, float8 alpha, L3 d, L3 ns, float8 u1, fl
 }
 
 // wp_bsdf_eval of a glossy material per lane, given cos_i = dot(wi, ns): f cos and *pdf,
-// zero and 0 where it returns zero; `need` as for wp_glossy_sample8.
-WP_FN L3 wp_glossy_eval8(L3 albedo, float8 alpha, L3 d, L3 ns, L3 wi, float8 cos_i, float8* pdf,
-                         int8 need) {
+// zero and 0 where it returns zero.
+WP_FN L3 wp_glossy_eval8(L3 albedo, float8 alpha, L3 d, L3 ns, L3 wi, float8 cos_i, float8* pdf) {
     const float8 zero = (float8)(0.0f);
     int8 live = cos_i > 0.0f;  // bsdf.h: cos_i != 0; glossy.h: reflection only
 #if WP_GLOSSY_MODEL == WP_GLOSSY_PHONG
     L3 r = wp_reflect8(d, ns);
-    float8 p = wp_phong_lobe_pdf8(l3_dot(wi, r), wp_ggx_alpha_to_phong8(alpha), need & live);
+    float8 p = wp_phong_lobe_pdf8(l3_dot(wi, r), wp_ggx_alpha_to_phong8(alpha));
     L3 f = l3_scale(albedo, p);
 #else
     L3 vo = wp_to_local8(l3_neg(d), ns);
@@ -336,22 +381,6 @@ WP_FN L3 wp_glossy_eval8(L3 albedo, float8 alpha, L3 d, L3 ns, L3 wi, float8 cos
 // bk: the lanes whose distribution is Beckmann (else GGX); sep: separable G (else
 // height-correlated). Each is its scalar twin's operations in the same order, both branches
 // computed and selected.
-WP_FN float8 wp_exp8(float8 x) {
-    float8 xc = clamp(x, -104.0f, 89.0f);
-    float8 n = floor(xc * 1.44269504088896341f + 0.5f);
-    float8 r = xc - n * 0.693359375f;
-    r = r - n * -2.12194440e-4f;
-    float8 p = 1.9875691500e-4f;
-    p = 1.3981999507e-3f + p * r;
-    p = 8.3334519073e-3f + p * r;
-    p = 4.1665795894e-2f + p * r;
-    p = 1.6666665459e-1f + p * r;
-    p = 5.0000001201e-1f + p * r;
-    float8 y = p * (r * r) + r + 1.0f;
-    int8 ni = convert_int8(n);
-    int8 n1 = ni >> 1, n2 = ni - n1;
-    return select(y * as_float8((n1 + 127) << 23) * as_float8((n2 + 127) << 23), x, isnan(x));
-}
 WP_FN float8 wp_erf8(float8 x) {
     float8 ax = fabs(x);
     float8 u = 2.0f * ax * ax - 1.0f;

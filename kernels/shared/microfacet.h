@@ -59,31 +59,6 @@ WP_FN float3 wp_mf_from_axes(Microfacet mf, float3 v) {
     return make_float3(mf.c * v.x - mf.s * v.y, mf.s * v.x + mf.c * v.y, v.z);
 }
 
-// e^x in single precision, inline (Cephes' expf: x = n ln 2 + r with ln 2 in two parts, a
-// degree-7 polynomial in r, 2^n applied as two exact power-of-two factors so that results in
-// the denormal range round once): max relative error 1.9e-7 over [-87, 88]
-// (tests/test_materials_conductor.cpp sweeps it against double). 0 below -104 (e^x < half the
-// smallest denormal), +inf above ln(FLT_MAX), NaN stays NaN. Why not the builtin: the lane
-// kernel (lanes.h, wp_exp8) must give these bits in every lane, and PoCL's exp(float8) differs
-// from its scalar exp by an ulp in some lanes (tests/test_lanes.cpp).
-WP_FN float wp_exp(float x) {
-    if (x != x) return x;
-    float xc = clamp(x, -104.0f, 89.0f);
-    float n = floor(xc * 1.44269504088896341f + 0.5f);
-    float r = xc - n * 0.693359375f;
-    r = r - n * -2.12194440e-4f;
-    float p = 1.9875691500e-4f;
-    p = 1.3981999507e-3f + p * r;
-    p = 8.3334519073e-3f + p * r;
-    p = 4.1665795894e-2f + p * r;
-    p = 1.6666665459e-1f + p * r;
-    p = 5.0000001201e-1f + p * r;
-    float y = p * (r * r) + r + 1.0f;
-    int ni = (int)n;  // [-150, 128]
-    int n1 = ni >> 1, n2 = ni - n1;
-    return y * as_float((n1 + 127) << 23) * as_float((n2 + 127) << 23);
-}
-
 // D(h): microfacet normals per steradian per unit projected area; 0 for h_z <= 0.
 WP_FN float wp_mf_d(Microfacet mf, float3 h) {
     if (!(h.z > 0.0f)) return 0.0f;

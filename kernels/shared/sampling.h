@@ -112,14 +112,104 @@ WP_FN float3 wp_sample_uniform_hemisphere(float u1, float u2) {
 }
 WP_FN float wp_uniform_hemisphere_pdf(void) { return WP_INV_2PI; }
 
+// e^(n ln 2 + r) for an integer n in [-150, 128] and |r| <= ln 2 / 2 (a little more is
+// fine): the polynomial and scaling that wp_exp and wp_pow share. Cephes' expf: a degree-7
+// polynomial in r; 2^n applied as two exact power-of-two factors, so that results in the
+// denormal range round once.
+WP_FN float wp_exp_reduced(float n, float r) {
+    float p = 1.9875691500e-4f;
+    p = 1.3981999507e-3f + p * r;
+    p = 8.3334519073e-3f + p * r;
+    p = 4.1665795894e-2f + p * r;
+    p = 1.6666665459e-1f + p * r;
+    p = 5.0000001201e-1f + p * r;
+    float y = p * (r * r) + r + 1.0f;
+    int ni = (int)n;  // [-150, 128]
+    int n1 = ni >> 1, n2 = ni - n1;
+    return y * as_float((n1 + 127) << 23) * as_float((n2 + 127) << 23);
+}
+
+// e^x in single precision, inline (Cephes' expf: x = n ln 2 + r with ln 2 in two parts,
+// then wp_exp_reduced): max relative error 1.9e-7 over [-87, 88]
+// (tests/test_materials_conductor.cpp sweeps it against double). 0 below -104 (e^x < half the
+// smallest denormal), +inf above ln(FLT_MAX), NaN stays NaN. Why not the builtin: the lane
+// kernel (lanes.h, wp_exp8) must give these bits in every lane, and PoCL's exp(float8) differs
+// from its scalar exp by an ulp in some lanes (tests/test_lanes.cpp).
+WP_FN float wp_exp(float x) {
+    if (x != x) return x;
+    float xc = clamp(x, -104.0f, 89.0f);
+    float n = floor(xc * 1.44269504088896341f + 0.5f);
+    float r = xc - n * 0.693359375f;
+    r = r - n * -2.12194440e-4f;
+    return wp_exp_reduced(n, r);
+}
+
+// x^y for x >= 0, inline: e^(y ln x), with ln x and y ln x carried as float pairs (hi + lo)
+// so that a large |y ln x| (the Phong lobe's cos^e, e up to 10^6) keeps its precision.
+//   x = m 2^e, m in [sqrt(1/2), sqrt(2)) (a denormal x scaled by 2^24 first);
+//   ln m = 2 atanh(t) = 2t + t^3 (2/3 + 2t^2/5 + ... + 2t^10/13), t = (m - 1) / (m + 1),
+//     |t| <= 0.172, with t's rounding error tl from an fma (m - 1 and the error of m + 1 are
+//     exact), so 2t + 2tl is good to about 2^-45 and the odd series' tail (<= 1 % of ln m)
+//     needs only float precision;
+//   ln x = e C1 + 2t (a two-sum: e C1 is exact) + the rest (ln 2 = C1 + C2 as in wp_exp),
+//   renormalised to a pair l1 + ll with |ll| <= ulp(l1) / 2;
+//   y ln x = zh + zl (zl from an fma), and e^(zh + zl) as wp_exp with zl added to the reduced
+//   argument.
+// Relative error at most 2.4e-7 (2 ulp; mostly wp_exp's polynomial) in a sweep against double
+// pow where the result is a normal float (tests/test_sampling.cpp). The ends as pow: x = 0 gives 0 for y > 0, 1 for y = 0, +inf
+// for y < 0; x = +inf the reverse; results beyond the float range +inf or 0 (below e^-104,
+// as wp_exp). Unlike pow: NaN for any NaN argument (pow(1, NaN) is 1) and for every x < 0.
+// Why not the builtin: PoCL's scalar pow is a library call (extended-precision log and exp:
+// a third of the Phong model's shade time on the built-in box), and its pow(float8) differs
+// from the scalar pow in some lanes; the lane form wp_pow8 (lanes.h) gives these bits.
+WP_FN float wp_pow(float x, float y) {
+    const int denormal = x < 1.17549435e-38f;
+    const float xs = denormal ? x * 16777216.0f : x;
+    const int i = as_int(xs);
+    float m = as_float((i & 0x007fffff) | 0x3f800000);  // [1, 2)
+    const int big = m >= 1.41421356f;
+    m = big ? 0.5f * m : m;
+    const float fe = (float)(((i >> 23) & 0xff) - 127 - (denormal ? 24 : 0) + big);
+    const float a = m - 1.0f;            // exact (Sterbenz)
+    const float b = m + 1.0f;
+    const float be = m - (b - 1.0f);     // m + 1 - b: the rounding error of b, exact
+    const float t = a / b;
+    const float tl = (fma(-t, b, a) - t * be) / b;  // a / (m + 1) - t, to first order
+    const float t2 = t * t;
+    float q = 0.15384615384615385f;      // 2/13
+    q = 0.18181818181818182f + q * t2;   // 2/11
+    q = 0.22222222222222222f + q * t2;   // 2/9
+    q = 0.28571428571428571f + q * t2;   // 2/7
+    q = 0.4f + q * t2;                   // 2/5
+    q = 0.66666666666666667f + q * t2;   // 2/3
+    const float s1 = fe * 0.693359375f, s2 = 2.0f * t;
+    const float lh = s1 + s2;
+    const float bv = lh - s1;
+    const float l2 = ((s1 - (lh - bv)) + (s2 - bv)) + (fe * -2.12194440e-4f + (2.0f * tl + t2 * t * q));
+    const float l1 = lh + l2;  // renormalised (|l2| <= |lh|): |ll| <= ulp(l1) / 2
+    const float ll = l2 - (l1 - lh);
+    const float zh = y * l1;
+    const float zl = fma(y, l1, -zh) + y * ll;
+    const float zc = clamp(zh, -104.0f, 89.0f);
+    const float n = floor(zc * 1.44269504088896341f + 0.5f);
+    float r = zc - n * 0.693359375f;
+    r = r - n * -2.12194440e-4f;
+    r = r + (zc == zh ? zl : 0.0f);
+    float p = wp_exp_reduced(n, r);
+    const float lo = y > 0.0f ? 0.0f : (y < 0.0f ? INFINITY : 1.0f);  // x = 0
+    p = x == 0.0f ? lo : p;
+    p = x == INFINITY ? 1.0f / lo : p;
+    return (x >= 0.0f && y == y) ? p : NAN;
+}
+
 // Normalised Phong lobe around +z with exponent e: density (e + 1) / (2π) cos^e(α) over the
 // hemisphere around the lobe axis (α = angle to the axis). cos α = u1^(1 / (e + 1)).
 WP_FN float3 wp_sample_phong_lobe(float u1, float u2, float exponent) {
-    float cos_alpha = pow(1.0f - u1, 1.0f / (exponent + 1.0f));
+    float cos_alpha = wp_pow(1.0f - u1, 1.0f / (exponent + 1.0f));
     return wp_spherical_local(cos_alpha, u2);
 }
 WP_FN float wp_phong_lobe_pdf(float cos_alpha, float exponent) {
-    return cos_alpha > 0.0f ? (exponent + 1.0f) * WP_INV_2PI * pow(cos_alpha, exponent) : 0.0f;
+    return cos_alpha > 0.0f ? (exponent + 1.0f) * WP_INV_2PI * wp_pow(cos_alpha, exponent) : 0.0f;
 }
 
 // Cosine-weighted over the hemisphere z > 0 (Malley's method: uniform on the unit disk,
