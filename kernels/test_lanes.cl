@@ -278,11 +278,11 @@ WP_KERNEL void probe_roughconductor8(int n, WP_GLOBAL const float* in, WP_GLOBAL
 #endif
 }
 
-// probe_mf_math8: the inline functions of microfacet.h and their lane forms.
+// probe_mf_math8: the inline functions of microfacet.h and sampling.h and their lane forms.
 // reads   per lane 2 floats: x, y
-// writes  per lane 5 words to lane[] and scalar[]: exp(x), erf(x), erfinv(y), log_normal(|x|),
-//         atan2_guess(|x|, |y|) (the host compares erfinv for |y| < 1 and log for normal
-//         finite |x| only: their domains)
+// writes  per lane 6 words to lane[] and scalar[]: exp(x), erf(x), erfinv(y), log_normal(|x|),
+//         atan2_guess(|x|, |y|), pow(x, y) (the host compares erfinv for |y| < 1 and log for
+//         normal finite |x| only: their domains)
 WP_KERNEL void probe_mf_math8(int n, WP_GLOBAL const float* in, WP_GLOBAL uint* lane,
                               WP_GLOBAL uint* scalar) {
     int i = wp_global_id();
@@ -291,19 +291,21 @@ WP_KERNEL void probe_mf_math8(int n, WP_GLOBAL const float* in, WP_GLOBAL uint* 
     WP_PROBE_READ(a, 2)
     for (int l = 0; l < 8; ++l) {
         float x = a[0][l], y = a[1][l];
-        float r[5] = {wp_exp(x), wp_erf(x), wp_erfinv(y), wp_log_normal(fabs(x)), wp_atan2_guess(fabs(x), fabs(y))};
-        for (int k = 0; k < 5; ++k) scalar[(8 * i + l) * 5 + k] = as_uint(r[k]);
+        float r[6] = {wp_exp(x), wp_erf(x), wp_erfinv(y), wp_log_normal(fabs(x)), wp_atan2_guess(fabs(x), fabs(y)),
+                      wp_pow(x, y)};
+        for (int k = 0; k < 6; ++k) scalar[(8 * i + l) * 6 + k] = as_uint(r[k]);
     }
 #if defined(WP_OPENCL)
     float8 x = vload8(0, a[0]), y = vload8(0, a[1]);
-    float8 res[5] = {wp_exp8(x), wp_erf8(x), wp_erfinv8(y), wp_log_normal8(fabs(x)), wp_atan2_guess8(fabs(x), fabs(y))};
-    for (int k = 0; k < 5; ++k) {
+    float8 res[6] = {wp_exp8(x), wp_erf8(x), wp_erfinv8(y), wp_log_normal8(fabs(x)), wp_atan2_guess8(fabs(x), fabs(y)),
+                     wp_pow8(x, y)};
+    for (int k = 0; k < 6; ++k) {
         uint b[8];
         vstore8(as_uint8(res[k]), 0, b);
-        for (int l = 0; l < 8; ++l) lane[(8 * i + l) * 5 + k] = b[l];
+        for (int l = 0; l < 8; ++l) lane[(8 * i + l) * 6 + k] = b[l];
     }
 #else
     for (int l = 0; l < 8; ++l)
-        for (int k = 0; k < 5; ++k) lane[(8 * i + l) * 5 + k] = scalar[(8 * i + l) * 5 + k];
+        for (int k = 0; k < 6; ++k) lane[(8 * i + l) * 6 + k] = scalar[(8 * i + l) * 6 + k];
 #endif
 }

@@ -216,17 +216,18 @@ TEST_CASE("lanes: rough conductor BSDF on eight lanes equals the scalar function
     }
 }
 
-// The inline functions of microfacet.h and sampling.h (wp_exp, wp_erf, wp_erfinv, wp_log_normal,
-// wp_atan2_guess) against their lane forms, bit for bit, over their whole ranges: every
-// branch of each, the ends (infinities, NaN, signed zeros, denormal results of exp, erfinv
-// next to ±1).
-TEST_CASE("lanes: the inline math of microfacet.h on eight lanes equals the scalar forms",
+// The inline functions of microfacet.h and sampling.h (wp_exp, wp_erf, wp_erfinv,
+// wp_log_normal, wp_atan2_guess, wp_pow) against their lane forms, bit for bit, over their
+// whole ranges: every branch of each, the ends (infinities, NaN, signed zeros, denormal
+// results of exp, erfinv next to ±1, pow of 0, 1, inf and negative x).
+TEST_CASE("lanes: the inline math of microfacet.h and sampling.h on eight lanes equals the scalar forms",
           "[kernel][lanes]") {
     auto& dev = wp::test::device();
     std::vector<float> in;
     const float specials[] = {0.0f, -0.0f, INFINITY, -INFINITY, NAN, 1.0f, -1.0f, 4.0f, -4.0f,
                               0x1p-149f, 1e-30f, -104.5f, -104.0f, -103.9f, -87.5f, 88.7f, 88.72f,
-                              88.8f, 89.5f, 0.70710678f, 1.0f - 0x1p-24f, -1.0f + 0x1p-24f, 0.9999f};
+                              88.8f, 89.5f, 0.70710678f, 1.0f - 0x1p-24f, -1.0f + 0x1p-24f, 0.9999f,
+                              100.0f, 1e6f, -3.0f};
     for (float x : specials)
         for (float y : specials) in.insert(in.end(), {x, y});
     wp::test::Rng rng(0xe4f);
@@ -247,18 +248,18 @@ TEST_CASE("lanes: the inline math of microfacet.h on eight lanes equals the scal
     cl::Buffer b_in = upload(in);
     ocl::Program prog = ocl::Program::build(dev, "test_lanes.cl", "-D WP_HAVE_ROUGH_CONDUCTOR=1");
     ocl::Kernel k(prog, "probe_mf_math8", "probe.mf_math8");
-    const std::size_t words = std::size_t(items) * 8 * 5;
+    const std::size_t words = std::size_t(items) * 8 * 6;
     cl::Buffer b_lane(dev.context, CL_MEM_READ_WRITE, words * 4), b_scalar(dev.context, CL_MEM_READ_WRITE, words * 4);
     k.launch({&dev.queue}, items, items, b_in, b_lane, b_scalar);
     std::vector<std::uint32_t> lane = download(b_lane, words), scalar = download(b_scalar, words);
-    const char* names[5] = {"exp", "erf", "erfinv", "log_normal", "atan2_guess"};
-    int bad[5] = {}, first[5] = {-1, -1, -1, -1, -1}, compared[5] = {};
+    const char* names[6] = {"exp", "erf", "erfinv", "log_normal", "atan2_guess", "pow"};
+    int bad[6] = {}, first[6] = {-1, -1, -1, -1, -1, -1}, compared[6] = {};
     for (int q = 0; q < 8 * items; ++q) {
         const float x = in[std::size_t(q) * 2], y = in[std::size_t(q) * 2 + 1];
-        for (int w = 0; w < 5; ++w) {
+        for (int w = 0; w < 6; ++w) {
             if (w == 2 && !(std::fabs(y) < 1.0f)) continue;                   // erfinv: (-1, 1)
             if (w == 3 && !std::isnormal(x)) continue;                         // log: normal x
-            const std::uint32_t a = lane[std::size_t(q) * 5 + w], b = scalar[std::size_t(q) * 5 + w];
+            const std::uint32_t a = lane[std::size_t(q) * 6 + w], b = scalar[std::size_t(q) * 6 + w];
             ++compared[w];
             // NaN: any NaN (the payload is not part of the contract).
             if (a != b && !(std::isnan(bits_to_float(a)) && std::isnan(bits_to_float(b)))) {
@@ -267,7 +268,7 @@ TEST_CASE("lanes: the inline math of microfacet.h on eight lanes equals the scal
             }
         }
     }
-    for (int w = 0; w < 5; ++w) {
+    for (int w = 0; w < 6; ++w) {
         INFO(names[w] << ": " << bad[w] << " of " << compared[w] << " differ, first at x = "
                       << (first[w] >= 0 ? in[std::size_t(first[w]) * 2] : 0.0f) << ", y = "
                       << (first[w] >= 0 ? in[std::size_t(first[w]) * 2 + 1] : 0.0f));

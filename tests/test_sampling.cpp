@@ -678,6 +678,13 @@ TEST_CASE("sampling: inline pow is within its stated error of double pow", "[uni
     CHECK(wp_pow(0.5f, 160.0f) == 0.0f);  // below e^-104: 0, as wp_exp
     CHECK(wp_pow(0x1p-149f, 1.0f) == 0x1p-149f);
     CHECK(std::isnan(wp_pow(0.5f, NAN)));
+    CHECK(wp_pow(1.0f, INFINITY) == 1.0f);
+    CHECK(wp_pow(1.0f, -INFINITY) == 1.0f);
+    CHECK(wp_pow(0.5f, INFINITY) == 0.0f);
+    CHECK(wp_pow(2.0f, INFINITY) == INFINITY);
+    CHECK(wp_pow(0.5f, -INFINITY) == INFINITY);
+    CHECK(wp_pow(0.0f, INFINITY) == 0.0f);
+    CHECK(wp_pow(INFINITY, -INFINITY) == 0.0f);
 }
 
 // The device's Sobol numbers (128-bit vector code in OpenCL) equal the host's scalar

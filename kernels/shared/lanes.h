@@ -160,7 +160,7 @@ WP_FN float8 wp_pow8(float8 x, float8 y) {
     const float8 ll = l2 - (l1 - lh);
     const float8 zh = y * l1;
     const float8 zl = fma(y, l1, -zh) + y * ll;
-    const float8 zc = clamp(zh, -104.0f, 89.0f);
+    const float8 zc = select((float8)(0.0f), clamp(zh, -104.0f, 89.0f), zh == zh);
     const float8 n = floor(zc * 1.44269504088896341f + 0.5f);
     float8 r = zc - n * 0.693359375f;
     r = r - n * -2.12194440e-4f;

@@ -158,7 +158,8 @@ WP_FN float wp_exp(float x) {
 // Relative error at most 2.4e-7 (2 ulp; mostly wp_exp's polynomial) in a sweep against double
 // pow where the result is a normal float (tests/test_sampling.cpp). The ends as pow: x = 0 gives 0 for y > 0, 1 for y = 0, +inf
 // for y < 0; x = +inf the reverse; results beyond the float range +inf or 0 (below e^-104,
-// as wp_exp). Unlike pow: NaN for any NaN argument (pow(1, NaN) is 1) and for every x < 0.
+// as wp_exp); y = +-inf as pow, 1^inf = 1 included. Unlike pow: NaN for any NaN argument
+// (pow(1, NaN) is 1) and for every x < 0.
 // Why not the builtin: PoCL's scalar pow is a library call (extended-precision log and exp:
 // a third of the Phong model's shade time on the built-in box), and its pow(float8) differs
 // from the scalar pow in some lanes; the lane form wp_pow8 (lanes.h) gives these bits.
@@ -190,7 +191,7 @@ WP_FN float wp_pow(float x, float y) {
     const float ll = l2 - (l1 - lh);
     const float zh = y * l1;
     const float zl = fma(y, l1, -zh) + y * ll;
-    const float zc = clamp(zh, -104.0f, 89.0f);
+    const float zc = zh == zh ? clamp(zh, -104.0f, 89.0f) : 0.0f;  // NaN: 1^inf (0 inf)
     const float n = floor(zc * 1.44269504088896341f + 0.5f);
     float r = zc - n * 0.693359375f;
     r = r - n * -2.12194440e-4f;
